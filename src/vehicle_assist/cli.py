@@ -1,0 +1,239 @@
+"""Command line: ``vehicle-assist list | run | check | show | reproduce | sweep | fsm | metrics``.
+
+Bad input never shows a traceback: the one-line message names the file, the field, the value and the
+fix, and the exit code is 2. A run whose checks do not come out as expected exits 1.
+"""
+from __future__ import annotations
+
+import json
+import math
+import sys
+import time
+from pathlib import Path
+from typing import List, Optional
+
+import typer
+from rich.console import Console
+from rich.table import Table as RichTable
+
+app = typer.Typer(add_completion=False, no_args_is_help=True, help="Vehicle assistance functions: simulate, calibrate, verify.")
+console = Console()
+err_console = Console(stderr=True)
+
+SetOpt = typer.Option(None, "--set", "-s", help="override by dotted path, e.g. vehicle.body.mass_kg=30000 (repeatable)")
+
+
+def _fail(message: str, code: int = 2) -> None:
+    err_console.print(f"[bold red]error:[/] {message}", highlight=False, soft_wrap=True)
+    raise typer.Exit(code)
+
+
+def _fmt(value: float) -> str:
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "nan"
+    if value == 0 or 1e-3 <= abs(value) < 1e6:
+        return f"{value:.4g}"
+    return f"{value:.3e}"
+
+
+def _external(name: str, value: float) -> str:
+    """Same value in the unit an engineer reads (rpm, km/h, bar), for tables."""
+    from vehicle_assist.units import BAR_TO_PA, KPH_TO_MPS, RPM_TO_RADPS
+
+    if not isinstance(value, float) or not math.isfinite(value):
+        return ""
+    if name.endswith("_radps"):
+        return f"{value / RPM_TO_RADPS:.0f} rpm"
+    if name.endswith("_mps"):
+        return f"{value / KPH_TO_MPS:.2f} km/h"
+    if name.endswith("_pa"):
+        return f"{value / BAR_TO_PA:.2f} bar"
+    if name.endswith("_j") and abs(value) >= 1000:
+        return f"{value / 1000:.1f} kJ"
+    return ""
+
+
+@app.command("list")
+def list_cmd() -> None:
+    """Shipped scenarios and vehicles, one line each."""
+    from vehicle_assist.scenarios.loader import _read_toml, shipped
+
+    for kind in ("scenarios", "vehicles"):
+        table = RichTable(title=f"shipped {kind}", show_lines=False)
+        table.add_column("name", style="bold")
+        table.add_column("description")
+        for name, path in shipped(kind).items():
+            table.add_row(name, str(_read_toml(path).get("description", "")))
+        console.print(table)
+
+
+def _load(scenario: str, sets: Optional[List[str]]):
+    from vehicle_assist.scenarios.errors import InputError
+    from vehicle_assist.scenarios.loader import load_scenario
+
+    try:
+        return load_scenario(scenario, list(sets or []))
+    except InputError as exc:
+        _fail(str(exc))
+
+
+@app.command()
+def check(scenario: str = typer.Argument(..., help="shipped scenario name or a .toml file"), set_: Optional[List[str]] = SetOpt) -> None:
+    """Validate a scenario file without running it."""
+    sc = _load(scenario, set_)
+    console.print(f"ok: {sc.name} ({sc.vehicle.model.name}, layout {sc.layout}), {len(sc.model.checks)} checks, "
+                  f"{len(sc.model.events)} events, {sc.model.run.duration_s:g} s")
+    if sc.model.road.curve_radius is not None:
+        console.print("note: road.curve_radius is validated but not yet used by the longitudinal plants")
+
+
+def _metrics_table(title: str, metrics: dict) -> RichTable:
+    table = RichTable(title=title)
+    table.add_column("metric")
+    table.add_column("value (SI)", justify="right")
+    table.add_column("", justify="right")
+    for name, value in metrics.items():
+        table.add_row(name, _fmt(value), _external(name, value))
+    return table
+
+
+def _checks_table(title: str, checks) -> RichTable:
+    table = RichTable(title=title)
+    for col in ("check", "value", "bound", "expect", "result"):
+        table.add_column(col)
+    for c in checks:
+        mark = "[green]ok[/]" if c.ok else "[red]FAIL[/]"
+        table.add_row(c.metric, _fmt(c.value), c.bound, c.expect, mark)
+    return table
+
+
+@app.command()
+def run(
+    scenario: str = typer.Argument(..., help="shipped scenario name or a .toml file"),
+    set_: Optional[List[str]] = SetOpt,
+    out: Path = typer.Option(Path("out/run"), "--out", "-o", help="output directory"),
+    plot: bool = typer.Option(True, help="write overview.png"),
+) -> None:
+    """Run one scenario: print metrics and checks, write trace.parquet, trace.csv, metrics.json, overview.png."""
+    from vehicle_assist.io.results import write_run_outputs
+    from vehicle_assist.scenarios.runner import simulate
+
+    sc = _load(scenario, set_)
+    t0 = time.perf_counter()
+    with console.status(f"simulating {sc.name} ({sc.model.run.duration_s:g} s)..."):
+        result = simulate(sc)
+    elapsed = time.perf_counter() - t0
+    console.print(_metrics_table(f"{sc.name}: metrics ({elapsed:.2f} s wall)", result.metrics))
+    if result.checks:
+        console.print(_checks_table("checks", result.checks))
+    with console.status("writing results..."):
+        paths = write_run_outputs(result.trace, result.metrics, out, sc.name, [c.as_dict() for c in result.checks], plot=plot)
+    console.print(f"wrote {', '.join(str(p) for p in paths.values())}")
+    if not result.ok:
+        raise typer.Exit(1)
+
+
+@app.command()
+def show(
+    name: str = typer.Argument(..., help="vehicle or scenario (shipped name or .toml file)"),
+    fmt: str = typer.Option("toml", "--format", "-f", help="toml or json"),
+    set_: Optional[List[str]] = SetOpt,
+) -> None:
+    """Print the fully resolved parameters with units and sources."""
+    from vehicle_assist.scenarios.errors import InputError
+    from vehicle_assist.scenarios.loader import _read_toml, load_vehicle, shipped
+    from vehicle_assist.scenarios.show import resolved_scenario, resolved_vehicle
+
+    if fmt not in ("toml", "json"):
+        _fail(f"--format {fmt!r}: use toml or json")
+    try:
+        is_vehicle = name in shipped("vehicles") or (
+            Path(name).is_file() and "layout" in _read_toml(Path(name)) or (Path(name).is_file() and "base" in _read_toml(Path(name)) and "run" not in _read_toml(Path(name)))
+        )
+        if is_vehicle and not set_:
+            doc = resolved_vehicle(load_vehicle(name))
+        else:
+            doc = resolved_scenario(_load(name, set_))
+    except InputError as exc:
+        _fail(str(exc))
+    if fmt == "json":
+        console.print_json(json.dumps(doc))
+    else:
+        import tomli_w
+
+        sys.stdout.write(tomli_w.dumps(doc))
+
+
+@app.command()
+def reproduce(out: Path = typer.Option(Path("out/reproduce"), "--out", "-o", help="output directory")) -> None:
+    """Run every paper reproduction: table of criteria, figures, HTML page and summary.json."""
+    from vehicle_assist.procedures.run import run_reproductions
+
+    entries = run_reproductions(out, console)
+    failed = [e for e in entries if not e["pass"]]
+    if failed:
+        err_console.print(f"[red]{len(failed)} of {len(entries)} criteria failed[/]")
+        raise typer.Exit(1)
+
+
+@app.command()
+def sweep(
+    scenario: str = typer.Argument(..., help="shipped scenario name or a .toml file"),
+    grid: List[str] = typer.Option(..., "--grid", "-g", help="dotted.path=v1,v2,... (repeatable; the full product is run)"),
+    set_: Optional[List[str]] = SetOpt,
+    out: Path = typer.Option(Path("out/sweep"), "--out", "-o", help="output directory (an interrupted sweep resumes here)"),
+    chunk: int = typer.Option(500, help="variants per part file"),
+    workers: int = typer.Option(0, help="threads (0 = all cores)"),
+) -> None:
+    """Run a grid of variants of one scenario on all cores; results to sweep.parquet (resumable)."""
+    from vehicle_assist.scenarios.errors import InputError
+    from vehicle_assist.scenarios.sweep import run_sweep
+
+    sc = _load(scenario, set_)
+    try:
+        path, n = run_sweep(sc, grid, out, chunk=chunk, workers=workers or None, console=console)
+    except InputError as exc:
+        _fail(str(exc))
+    console.print(f"wrote {path} ({n} variants)")
+
+
+@app.command()
+def fsm(name: str = typer.Argument(..., help="state machine name, e.g. amt_launch")) -> None:
+    """Print a state machine's transition table as a Mermaid diagram."""
+    from vehicle_assist.vehicles import layouts
+
+    machines = {}
+    for layout in layouts.names():
+        for m in layouts.get(layout).MACHINES:
+            machines.setdefault(m.name, m)
+    if name not in machines:
+        from vehicle_assist.scenarios.errors import did_you_mean
+
+        _fail(f"no state machine {name!r}{did_you_mean(name, machines)}; known: {', '.join(machines)}")
+    print(machines[name].mermaid())
+
+
+@app.command()
+def metrics() -> None:
+    """List the metrics that checks can name."""
+    from vehicle_assist.metrics import METRICS
+
+    table = RichTable(title="metrics")
+    table.add_column("name")
+    table.add_column("needs channels")
+    table.add_column("description")
+    for name, m in sorted(METRICS.items()):
+        table.add_row(name, ", ".join(m.requires), m.description)
+    console.print(table)
+
+
+def main() -> None:
+    try:
+        app()
+    except KeyboardInterrupt:
+        err_console.print("interrupted; files already written are complete (atomic writes)")
+        sys.exit(130)
+
+
+if __name__ == "__main__":
+    main()

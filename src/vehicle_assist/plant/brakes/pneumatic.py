@@ -1,0 +1,53 @@
+"""Pneumatic spring (park) brake of a heavy truck: reservoir, relay valve, spring chambers
+(hill_start_amt.md sections 3 and 5.3; common.md 7.2).
+
+Circuit: reservoir (p_s) -> hand park valve -> control line -> relay valve -> spring chambers (p_sp).
+The 3/2 solenoid valve of the hill-start assist sits in the control line; it is not part of this module.
+
+    hand valve released: control line = p_s; park position: control line exhausted (0)
+    relay valve + chambers, lumped, first order (exact discretisation):
+        filling   (p_ctrl > p_sp):  dp_sp/dt = (p_ctrl - p_sp)/tau_fill    (air from the reservoir)
+        exhausting (otherwise):     dp_sp/dt = (p_ctrl - p_sp)/tau_exh
+    F_g_cap = F_g_max * clip((p_full - p_sp)/(p_full - p_start), 0, 1)     holding capacity at the ground
+    lamp (park-brake pressure switch) on while p_sp < p_lamp
+
+With p_ctrl = p_s the lamp goes out after t = tau_fill*ln(p_s/(p_s - p_lamp)): the fit of the paper's
+Table 1 (tau_fill = 2.55 s, p_lamp = 4.09 bar) gives 2.53/2.24/2.01/1.83 s at 6.5/7.0/7.5/8.0 bar.
+The reservoir is taken as large (its pressure does not drop while the chambers fill).
+
+Service brake (air, lumped): chamber pressure follows pedal*p_s with a first-order lag; ground force
+capacity F_sb_cap = F_sb_max * p_sb/p_ref.
+"""
+from __future__ import annotations
+
+import math
+
+import numba as nb
+
+
+@nb.njit(cache=True, nogil=True)
+def hand_valve_control_pressure_pa(released, reservoir_pressure_pa):
+    return reservoir_pressure_pa if released > 0.5 else 0.0
+
+
+@nb.njit(cache=True, nogil=True)
+def spring_chamber_step(chamber_pa, control_pa, fill_tau_s, exhaust_tau_s, dt):
+    """Relay valve delivers the control pressure into the chambers (first order, exact step)."""
+    tau = fill_tau_s if control_pa > chamber_pa else exhaust_tau_s
+    return control_pa + (chamber_pa - control_pa) * math.exp(-dt / tau)
+
+
+@nb.njit(cache=True, nogil=True)
+def park_brake_capacity_n(chamber_pa, max_force_n, release_start_pa, release_full_pa):
+    u = (release_full_pa - chamber_pa) / (release_full_pa - release_start_pa)
+    return max_force_n * min(max(u, 0.0), 1.0)
+
+
+def lamp_time_s(reservoir_pa: float, lamp_pa: float, fill_tau_s: float) -> float:
+    """Closed form: time from an exhausted chamber to the lamp going out (Table-1 'release time')."""
+    return fill_tau_s * math.log(reservoir_pa / (reservoir_pa - lamp_pa))
+
+
+@nb.njit(cache=True, nogil=True)
+def first_order_step(value, target, tau_s, dt):
+    return target + (value - target) * math.exp(-dt / tau_s)

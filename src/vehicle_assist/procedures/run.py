@@ -1,0 +1,62 @@
+"""Run the registered paper reproductions and write their table, figures, HTML page and summary."""
+from __future__ import annotations
+
+from pathlib import Path
+
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table as RichTable
+
+from vehicle_assist.io.results import write_json, write_trace_parquet
+from vehicle_assist.procedures.reproduce import REPRODUCTIONS
+from vehicle_assist.report.html import write_reproduce_page
+from vehicle_assist.report.plots import force_history_png, overview_png
+from vehicle_assist.scenarios.loader import load_scenario
+from vehicle_assist.scenarios.runner import simulate
+from vehicle_assist.units import unit_of
+
+
+def run_reproductions(out: Path, console: Console | None = None) -> list[dict]:
+    console = console or Console()
+    out = Path(out)
+    figures_dir = out / "figures"
+    figures_dir.mkdir(parents=True, exist_ok=True)
+    entries: list[dict] = []
+    figures: list[tuple[str, Path]] = []
+    jobs = [(rep, name) for rep in REPRODUCTIONS for name in rep.scenarios]
+    with Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+                  TimeElapsedColumn(), console=console, transient=True) as progress:
+        task = progress.add_task("reproducing", total=len(jobs))
+        for rep, name in jobs:
+            progress.update(task, description=f"{rep.paper}: {name}")
+            sc = load_scenario(name)
+            result = simulate(sc)
+            write_trace_parquet(result.trace, out / "traces" / f"{name}.parquet")
+            fig = overview_png(result.trace, figures_dir / f"{name}.png", f"{rep.paper}: {name}")
+            figures.append((f"{name}: overview", fig))
+            if "park_brake_force_n" in result.trace or "service_brake_force_n" in result.trace:
+                fig2 = force_history_png(result.trace, figures_dir / f"{name}_forces.png", f"{rep.paper}: {name} forces")
+                figures.append((f"{name}: force history", fig2))
+            for c in result.checks:
+                entries.append({
+                    "paper": rep.paper,
+                    "scenario": name,
+                    "criterion": c.metric if c.expect == "pass" else f"{c.metric} (negative control: bound must fail)",
+                    "value": c.value,
+                    "unit": unit_of(c.metric) or "-",
+                    "bound": c.bound,
+                    "pass": bool(c.ok),
+                    "why": c.why,
+                })
+            progress.advance(task)
+    table = RichTable(title="reproduction")
+    for col in ("paper", "scenario", "criterion", "value", "unit", "bound", "pass"):
+        table.add_column(col)
+    for e in entries:
+        table.add_row(e["paper"], e["scenario"], e["criterion"], f"{e['value']:.4g}", e["unit"], e["bound"],
+                      "[green]pass[/]" if e["pass"] else "[red]FAIL[/]")
+    console.print(table)
+    write_json(entries, out / "summary.json")
+    page = write_reproduce_page(entries, figures, out / "index.html", "vehicle-assist: paper reproductions")
+    console.print(f"wrote {out / 'summary.json'}, {page} and {len(figures)} figures in {figures_dir}")
+    return entries

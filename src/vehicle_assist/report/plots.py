@@ -1,0 +1,192 @@
+"""Quick-look figures of a trace, for a human checking a run at a glance.
+
+:func:`overview_png` stacks shared-time panels for whichever signal groups the trace has (speed and
+position; engine / input-shaft / motor speed; pedals and clutch; forces; pressures) and marks the
+mode-change events as thin vertical lines. Plots are the edge of the package, so this is where SI
+channels are shown in workshop units: km/h, rpm, kN and bar.
+
+Figures are drawn on a :class:`matplotlib.figure.Figure` with the Agg canvas, without pyplot: no global
+figure registry to leak, no change of the user's interactive backend, safe in worker processes. The PNG
+goes to memory first and is then written atomically.
+"""
+from __future__ import annotations
+
+import io
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from vehicle_assist.core.trace import Trace
+from vehicle_assist.io.results import atomic_write_bytes
+from vehicle_assist.units import BAR_TO_PA, KPH_TO_MPS, RPM_TO_RADPS
+
+__all__ = ["overview_png", "force_history_png", "PANELS"]
+
+DPI = 110
+PANEL_HEIGHT_IN = 2.2
+FIGURE_WIDTH_IN = 10.0
+
+
+@dataclass(frozen=True)
+class Line:
+    """One curve: channel, legend label, factor from SI to the panel unit, line style."""
+
+    channel: str
+    label: str
+    scale: float = 1.0
+    style: str = "-"
+
+
+@dataclass(frozen=True)
+class Panel:
+    """One axes: a title, the y-axis label with unit, its lines and optional lines on a right axis."""
+
+    title: str
+    ylabel: str
+    lines: tuple[Line, ...]
+    right_ylabel: str = ""
+    right_lines: tuple[Line, ...] = ()
+    ylim: tuple[float, float] | None = None
+
+    def present(self, trace: Trace) -> bool:
+        return any(line.channel in trace for line in self.lines + self.right_lines)
+
+
+_KN = 1.0e-3
+PANELS: tuple[Panel, ...] = (
+    Panel(
+        "Vehicle motion", "speed [km/h]",
+        (Line("speed_mps", "speed", 1.0 / KPH_TO_MPS),),
+        right_ylabel="position [m]",
+        right_lines=(Line("position_m", "position", 1.0, "--"),),
+    ),
+    Panel(
+        "Rotational speeds", "speed [rpm]",
+        (
+            Line("engine_speed_radps", "engine", 1.0 / RPM_TO_RADPS),
+            Line("input_shaft_speed_radps", "input shaft", 1.0 / RPM_TO_RADPS, "--"),
+            Line("motor_speed_radps", "motor", 1.0 / RPM_TO_RADPS),
+        ),
+    ),
+    Panel(
+        "Pedals and clutch", "position [0..1]",
+        (
+            Line("accelerator_frac", "accelerator"),
+            Line("brake_pedal_frac", "brake pedal"),
+            Line("clutch_position_frac", "clutch position", 1.0, "--"),
+        ),
+        ylim=(-0.05, 1.05),
+    ),
+    Panel(
+        "Longitudinal forces", "force [kN]",
+        (
+            Line("drive_force_n", "drive", _KN),
+            Line("grade_resistance_n", "grade resistance", _KN),
+            Line("park_brake_force_n", "park brake", _KN),
+            Line("service_brake_force_n", "service brake", _KN),
+        ),
+    ),
+    Panel(
+        "Brake pressures", "pressure [bar]",
+        (
+            Line("park_chamber_pressure_pa", "park chamber", 1.0 / BAR_TO_PA),
+            Line("brake_pressure_pa", "brake pressure", 1.0 / BAR_TO_PA),
+            Line("brake_pressure_command_pa", "brake pressure command", 1.0 / BAR_TO_PA, "--"),
+        ),
+    ),
+)
+
+FORCE_PANEL = Panel(
+    "Longitudinal forces", "force [kN]",
+    (
+        Line("drive_force_n", "drive", _KN),
+        Line("grade_resistance_n", "grade resistance", _KN),
+        Line("aero_drag_n", "aero drag", _KN),
+        Line("rolling_resistance_force_n", "rolling resistance", _KN),
+        Line("service_brake_force_n", "service brake", _KN),
+        Line("service_brake_capacity_n", "service brake capacity", _KN, ":"),
+        Line("park_brake_force_n", "park brake", _KN),
+        Line("park_brake_capacity_n", "park brake capacity", _KN, ":"),
+    ),
+)
+
+
+def _draw_lines(ax, trace: Trace, lines: tuple[Line, ...], color_offset: int = 0) -> list:
+    time_s = np.asarray(trace.time_s)
+    handles = []
+    for i, line in enumerate(l for l in lines if l.channel in trace):
+        with np.errstate(over="ignore", invalid="ignore"):
+            values = np.asarray(trace[line.channel], dtype=np.float64) * line.scale
+        values = np.where(np.isfinite(values), values, np.nan)  # non-finite samples show as gaps
+        (handle,) = ax.plot(time_s, values, line.style, lw=1.2, label=line.label,
+                            color=f"C{(i + color_offset) % 10}")
+        handles.append(handle)
+    return handles
+
+
+def _draw_events(axes: list, trace: Trace) -> None:
+    """Mark each event inside the time range with a dotted line on every panel and a label on the top one."""
+    if not trace.events or not len(trace):
+        return
+    t0_s, t1_s = float(np.min(trace.time_s)), float(np.max(trace.time_s))
+    events = [e for e in trace.events if t0_s <= e.time_s <= t1_s]
+    for ax in axes:
+        for event in events:
+            ax.axvline(event.time_s, color="0.45", lw=0.6, ls=":", zorder=0)
+    top = axes[0]
+    for event in events:
+        label = top.annotate(
+            f"{event.machine}: {event.to_mode}",
+            xy=(event.time_s, 1.0), xycoords=("data", "axes fraction"),
+            xytext=(2, -2), textcoords="offset points",
+            rotation=90, va="top", ha="left", fontsize=6, color="0.3",
+        )
+        label.set_in_layout(False)
+
+
+def _render(trace: Trace, panels: list[Panel], path: str | Path, title: str) -> Path:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    n = max(len(panels), 1)
+    fig = Figure(figsize=(FIGURE_WIDTH_IN, PANEL_HEIGHT_IN * n + 0.6), dpi=DPI, layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = list(np.atleast_1d(fig.subplots(n, 1, sharex=True, squeeze=False)[:, 0]))
+    fig.suptitle(title, fontsize=11)
+    if not panels:
+        axes[0].text(0.5, 0.5, "no plottable channels in this trace", ha="center", va="center",
+                     transform=axes[0].transAxes)
+    for ax, panel in zip(axes, panels):
+        handles = _draw_lines(ax, trace, panel.lines)
+        if panel.right_lines and any(l.channel in trace for l in panel.right_lines):
+            right = ax.twinx()
+            handles += _draw_lines(right, trace, panel.right_lines, color_offset=len(handles))
+            right.set_ylabel(panel.right_ylabel)
+        ax.set_title(panel.title, fontsize=9, loc="left")
+        ax.set_ylabel(panel.ylabel)
+        if panel.ylim is not None:
+            ax.set_ylim(*panel.ylim)
+        ax.grid(True, lw=0.4, alpha=0.6)
+        if handles:
+            # in the title row, right-aligned: never hides data
+            ax.legend(handles=handles, loc="lower right", bbox_to_anchor=(1.0, 1.0), ncols=min(len(handles), 4),
+                      fontsize=7, frameon=False, borderaxespad=0.1, handlelength=2.5)
+    _draw_events(axes, trace)
+    axes[-1].set_xlabel("time [s]")
+    if len(trace):
+        axes[-1].set_xlim(float(trace.time_s[0]), float(trace.time_s[-1]))
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=DPI)
+    return atomic_write_bytes(path, buffer.getvalue())
+
+
+def overview_png(trace: Trace, path: str | Path, title: str) -> Path:
+    """Write a PNG with one shared-time panel per signal group present in ``trace``; return its path."""
+    return _render(trace, [p for p in PANELS if p.present(trace)], path, title)
+
+
+def force_history_png(trace: Trace, path: str | Path, title: str) -> Path:
+    """Write a PNG of every longitudinal force (kN) incl. brake capacities (dotted); return its path."""
+    panels = [FORCE_PANEL] if FORCE_PANEL.present(trace) else []
+    return _render(trace, panels, path, title)

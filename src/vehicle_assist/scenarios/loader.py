@@ -1,0 +1,368 @@
+"""Load vehicle and scenario files, apply dotted-path overrides, and build the SI records the
+compiled kernels read. All user-facing failures raise :class:`InputError` with a one-line message."""
+from __future__ import annotations
+
+import copy
+import hashlib
+import json
+import math
+import tomllib
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from pydantic import BaseModel, ValidationError
+
+from vehicle_assist.core.tables import Table, TableError
+from vehicle_assist.plant.sensors import FAULTS
+from vehicle_assist.scenarios.errors import InputError, did_you_mean, from_validation
+from vehicle_assist.scenarios.schema import Scenario
+from vehicle_assist.units import DEG_TO_RAD, KPH_TO_MPS, to_si
+from vehicle_assist.vehicles import layouts
+from vehicle_assist.vehicles.common import ACTIONS, EVENT_CAPACITY, INPUTS, OP_ABOVE, OP_BELOW
+from vehicle_assist.vehicles.schema import LAYOUTS, NON_NUMERIC, flatten_vehicle
+
+DATA = resources.files("vehicle_assist") / "data"
+
+
+def shipped(kind: str) -> dict[str, Path]:
+    """Shipped files of a kind ('vehicles' or 'scenarios'), by name."""
+    folder = Path(str(DATA / kind))
+    return {p.stem: p for p in sorted(folder.glob("*.toml"))}
+
+
+def _read_toml(path: Path) -> dict:
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(f"{path}: file not found; give an existing file or a shipped name (see 'vehicle-assist list')") from None
+    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as exc:
+        raise InputError(f"{path}: cannot read it ({exc.__class__.__name__}); give a readable UTF-8 TOML file") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{path}: not valid TOML ({exc}); fix the syntax at that place") from None
+
+
+def _resolve(name_or_path: str | Path, kind: str) -> Path:
+    files = shipped(kind)
+    text = str(name_or_path)
+    if text in files:
+        return files[text]
+    path = Path(text)
+    if path.suffix == ".toml" or path.exists() or "/" in text:
+        return path
+    raise InputError(f"{text!r}: no shipped {kind[:-1]} of that name{did_you_mean(text, files)} and no such file; see 'vehicle-assist list'")
+
+
+def deep_merge(base: dict, over: dict) -> dict:
+    out = copy.deepcopy(base)
+    for key, value in over.items():
+        if isinstance(value, dict) and isinstance(out.get(key), dict) and key not in ("full_load_torque", "pedal_map"):
+            out[key] = deep_merge(out[key], value)
+        else:
+            out[key] = copy.deepcopy(value)
+    return out
+
+
+# --------------------------------------------------------------------------------------------- vehicles
+@dataclass(frozen=True)
+class Vehicle:
+    model: BaseModel
+    sources: dict[str, str]
+    path: Path
+    raw: dict
+
+    @property
+    def layout(self) -> str:
+        return self.model.layout
+
+    def flat(self) -> dict:
+        flat = flatten_vehicle(self.model)
+        return layouts.get(self.layout).derived(flat)
+
+
+def _vehicle_raw(name_or_path: str | Path, seen: tuple = ()) -> tuple[dict, dict[str, str], Path]:
+    path = _resolve(name_or_path, "vehicles")
+    raw = _read_toml(path)
+    base = raw.pop("base", None)
+    sources: dict[str, str] = {}
+    if base is not None:
+        if base in seen:
+            raise InputError(f"{path}: base = {base!r} makes a cycle of vehicle files")
+        base_raw, sources, _ = _vehicle_raw(base, seen + (base,))
+        raw = deep_merge(base_raw, raw)
+    for section, body in raw.items():
+        if isinstance(body, dict) and isinstance(body.get("source"), dict):
+            for key, text in body["source"].items():
+                sources[f"{section}.{key}"] = str(text)
+    return raw, sources, path
+
+
+def load_vehicle(name_or_path: str | Path, overrides: dict | None = None, override_where: str = "") -> Vehicle:
+    raw, sources, path = _vehicle_raw(name_or_path)
+    if overrides:
+        for section, body in overrides.items():
+            if section not in raw or not isinstance(raw[section], dict):
+                known = [k for k, v in raw.items() if isinstance(v, dict)]
+                raise InputError(f"{override_where or path}: vehicle.{section}: unknown subsystem{did_you_mean(section, known)}; known: {', '.join(known)}")
+            if not isinstance(body, dict):
+                raise InputError(f"{override_where or path}: vehicle.{section} must be a table of overrides")
+            for key in body:
+                if key != "source":
+                    sources[f"{section}.{key}"] = str(body.get("source", {}).get(key, f"override in {override_where or 'caller'}"))
+        raw = deep_merge(raw, overrides)
+    clean = {}
+    for section, body in raw.items():
+        if isinstance(body, dict):
+            body = {k: v for k, v in body.items() if k != "source"}
+            for key in body:
+                if f"{section}.{key}" not in sources:
+                    raise InputError(f"{path}: {section}.{key} has no source; add it to [{section}.source] (paper, standard, data sheet or 'assumed: why')")
+        clean[section] = body
+    layout = clean.get("layout")
+    if layout not in LAYOUTS:
+        raise InputError(f"{path}: layout = {layout!r} unknown{did_you_mean(layout, LAYOUTS)}; use one of {', '.join(LAYOUTS)}")
+    model_cls = LAYOUTS[layout]
+    try:
+        model = model_cls.model_validate(clean)
+    except ValidationError as exc:
+        where = override_where or str(path)
+        raise from_validation(exc, model_cls, where, "vehicle" if override_where else "") from None
+    except TableError as exc:
+        raise InputError(f"{path}: {exc}") from None
+    return Vehicle(model, sources, path, clean)
+
+
+# --------------------------------------------------------------------------------------------- overrides
+def parse_value(text: str) -> Any:
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def apply_set(raw: dict, assignment: str, where: str) -> dict:
+    """Apply ``dotted.path=value`` to a raw scenario dict; the path's parents must exist or be known tables."""
+    if "=" not in assignment:
+        raise InputError(f"--set {assignment!r}: write it as dotted.path=value, e.g. vehicle.body.mass_kg=30000")
+    path, text = assignment.split("=", 1)
+    keys = [k.strip() for k in path.strip().split(".") if k.strip()]
+    if not keys:
+        raise InputError(f"--set {assignment!r}: the path is empty")
+    out = copy.deepcopy(raw)
+    node = out
+    for depth, key in enumerate(keys[:-1]):
+        if key not in node:
+            if depth == 0 and key not in Scenario.model_fields:
+                raise InputError(f"--set {path}: unknown section {key!r}{did_you_mean(key, Scenario.model_fields)}")
+            node[key] = {}
+        if not isinstance(node[key], dict):
+            raise InputError(f"--set {path}: {'.'.join(keys[: depth + 1])} is a value, not a table")
+        node = node[key]
+    node[keys[-1]] = parse_value(text.strip())
+    return out
+
+
+def _check_vehicle_override_keys(vehicle_raw: dict, overrides: dict, where: str) -> None:
+    for section, body in overrides.items():
+        if isinstance(body, dict) and isinstance(vehicle_raw.get(section), dict):
+            for key in body:
+                if key != "source" and key not in vehicle_raw[section]:
+                    known = [k for k in vehicle_raw[section] if k != "source"]
+                    raise InputError(f"{where}: vehicle.{section}.{key}: unknown key{did_you_mean(key, known)}; known keys here: {', '.join(known)}")
+
+
+# --------------------------------------------------------------------------------------------- scenarios
+@dataclass
+class LoadedScenario:
+    """A validated scenario with its vehicle, ready to simulate."""
+
+    model: Scenario
+    vehicle: Vehicle
+    path: Path | None
+    raw: dict
+    sets: tuple[str, ...] = ()
+    flat: dict = field(default_factory=dict)
+
+    @property
+    def name(self) -> str:
+        return self.model.name
+
+    @property
+    def layout(self) -> str:
+        return self.vehicle.layout
+
+    def scenario_hash(self) -> str:
+        return hashlib.sha256(json.dumps(self.raw, sort_keys=True, default=str).encode()).hexdigest()[:16]
+
+    def parameter_hash(self) -> str:
+        items = {k: (list(v.x) + list(v.y) if isinstance(v, Table) else np.asarray(v).tolist()) for k, v in self.vehicle.flat().items()}
+        return hashlib.sha256(json.dumps(items, sort_keys=True).encode()).hexdigest()[:16]
+
+    def with_sets(self, *assignments: str) -> "LoadedScenario":
+        """A new scenario with further dotted overrides (this one is not changed)."""
+        return scenario_from_raw(self.raw, self.path, self.sets + tuple(assignments), already_set=self.sets)
+
+
+def load_scenario(name_or_path: str | Path, sets: list[str] | tuple[str, ...] = ()) -> LoadedScenario:
+    path = _resolve(name_or_path, "scenarios")
+    raw = _read_toml(path)
+    return scenario_from_raw(raw, path, tuple(sets))
+
+
+def scenario_from_raw(raw: dict, path: Path | None, sets: tuple[str, ...], already_set: tuple[str, ...] = ()) -> LoadedScenario:
+    where = str(path) if path else "scenario"
+    for assignment in sets[len(already_set):]:
+        raw = apply_set(raw, assignment, where)
+    try:
+        model = Scenario.model_validate(raw)
+    except ValidationError as exc:
+        raise from_validation(exc, Scenario, where) from None
+    except TableError as exc:
+        raise InputError(f"{where}: {exc}") from None
+    overrides = {k: v for k, v in (model.vehicle.model_extra or {}).items()}
+    base_raw, _, _ = _vehicle_raw(model.vehicle.base)
+    _check_vehicle_override_keys(base_raw, overrides, where)
+    vehicle = load_vehicle(model.vehicle.base, overrides, override_where=where)
+    loaded = LoadedScenario(model, vehicle, path, raw, sets)
+    loaded.flat = build_scenario_record(loaded, where)
+    return loaded
+
+
+def _table(tab, x_key: str, y_key: str, x_name: str, y_name: str, y_factor: float = 1.0, interpolation: str = "linear") -> Table:
+    xs = tuple(float(v) for v in getattr(tab, x_key))
+    ys = tuple(float(v) * y_factor for v in getattr(tab, y_key))
+    return Table(x_name, y_name, xs, ys, "clamp", interpolation)
+
+
+def build_scenario_record(sc: LoadedScenario, where: str) -> dict:
+    m = sc.model
+    lay = layouts.get(sc.layout)
+    v = sc.vehicle.model
+    flat: dict[str, Any] = {
+        "duration_s": m.run.duration_s,
+        "plant_step_s": m.run.plant_step_s,
+        "controller_period_s": m.run.controller_period_s,
+        "record_period_s": m.run.record_period_s,
+        "initial_position_m": m.run.initial_position_m,
+        "initial_speed_mps": m.run.initial_speed_kph * KPH_TO_MPS,
+    }
+    road = m.road
+    if road.slope is not None:
+        flat["road_slope"] = _table(road.slope, "distance_m", "slope_deg", "distance_m", "slope_rad", DEG_TO_RAD)
+    else:
+        flat["road_slope"] = Table.constant("distance_m", "slope_rad", (road.slope_deg or 0.0) * DEG_TO_RAD)
+    if road.rolling_resistance is not None:
+        flat["road_rolling_resistance"] = _table(road.rolling_resistance, "distance_m", "coeff", "distance_m", "coeff")
+    else:
+        coeff = road.rolling_resistance_coeff if road.rolling_resistance_coeff is not None else v.body.rolling_resistance_coeff
+        flat["road_rolling_resistance"] = Table.constant("distance_m", "coeff", coeff)
+    flat["road_friction"] = (_table(road.friction, "distance_m", "mu", "distance_m", "mu") if road.friction is not None
+                             else Table.constant("distance_m", "mu", 1.0))
+
+    d = m.driver
+    for name in ("hand_valve", "steering", "gear_lever"):
+        if getattr(d, name) is not None and name not in lay.INPUTS:
+            raise InputError(f"{where}: driver.{name}: the {sc.layout} vehicle has no such input; it takes {', '.join(lay.INPUTS)}")
+    flat["driver_accelerator"] = _table(d.accelerator, "time_s", "frac", "time_s", "frac") if d.accelerator else Table.constant("time_s", "frac", 0.0)
+    flat["driver_brake_pedal"] = _table(d.brake_pedal, "time_s", "frac", "time_s", "frac") if d.brake_pedal else Table.constant("time_s", "frac", 0.0)
+    gear_names = lay.gear_names(v)
+    if d.gear_lever is not None:
+        idx = []
+        for i, g in enumerate(d.gear_lever.gear):
+            if g not in gear_names:
+                raise InputError(f"{where}: driver.gear_lever.gear.{i} = {g!r}: not a gear of {v.name}{did_you_mean(g, gear_names)}; gears: {', '.join(gear_names)}")
+            idx.append(float(gear_names.index(g)))
+        flat["driver_gear_lever"] = Table("time_s", "gear_index", tuple(d.gear_lever.time_s), tuple(idx), "clamp", "previous")
+    else:
+        flat["driver_gear_lever"] = Table.constant("time_s", "gear_index", float(lay.DEFAULT_GEAR_INDEX))
+    if d.hand_valve is not None:
+        flat["driver_hand_valve"] = Table("time_s", "released_flag", tuple(d.hand_valve.time_s), tuple(float(x) for x in d.hand_valve.released), "clamp", "previous")
+    else:
+        flat["driver_hand_valve"] = Table.constant("time_s", "released_flag", 1.0)
+    flat["driver_steering"] = (_table(d.steering, "time_s", "angle_deg", "time_s", "angle_rad", DEG_TO_RAD) if d.steering
+                               else Table.constant("time_s", "angle_rad", 0.0))
+
+    # sensors
+    names = [s.rsplit("_", 1)[0] for s in lay.SENSORS]
+    noise = np.zeros(len(lay.SENSORS))
+    bias = np.zeros(len(lay.SENSORS))
+    delay = np.zeros(len(lay.SENSORS))
+    for key, spec in m.sensors.items():
+        if key not in names:
+            raise InputError(f"{where}: sensors.{key}: unknown sensor{did_you_mean(key, names)}; sensors of {sc.layout}: {', '.join(names)}")
+        i = names.index(key)
+        unit_suffix = lay.SENSORS[i][len(key):]
+        delay[i] = spec.delay_s
+        for extra, value in (spec.model_extra or {}).items():
+            si_key, si_value = to_si(extra, float(value)) if isinstance(value, (int, float)) else (extra, value)
+            if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(float(value)):
+                raise InputError(f"{where}: sensors.{key}.{extra} = {value!r}: give a finite number")
+            if si_key == f"noise_std{unit_suffix}":
+                if si_value < 0:
+                    raise InputError(f"{where}: sensors.{key}.{extra} = {value!r}: must be >= 0")
+                noise[i] = si_value
+            elif si_key == f"bias{unit_suffix}":
+                bias[i] = si_value
+            else:
+                raise InputError(f"{where}: sensors.{key}.{extra}: unknown key; use delay_s, noise_std{unit_suffix} or bias{unit_suffix} (or the same in an external unit, e.g. _rpm, _bar, _deg)")
+    flat["sensor_noise_std"] = noise
+    flat["sensor_bias"] = bias
+    flat["sensor_delay_s"] = delay
+
+    # events
+    if len(m.events) > EVENT_CAPACITY:
+        raise InputError(f"{where}: events: {len(m.events)} events, at most {EVENT_CAPACITY} are supported")
+    ev = {k: np.zeros(EVENT_CAPACITY) for k in ("time_s", "signal", "op", "threshold", "action", "target", "value", "value2")}
+    for i, e in enumerate(m.events):
+        ev["time_s"][i] = e.at_s or 0.0
+        ev["signal"][i] = -1
+        if e.when is not None:
+            if e.when.signal not in lay.EVENT_SIGNALS:
+                raise InputError(f"{where}: events.{i}.when.signal = {e.when.signal!r}: unknown{did_you_mean(e.when.signal, lay.EVENT_SIGNALS)}; signals: {', '.join(lay.EVENT_SIGNALS)}")
+            ev["signal"][i] = lay.EVENT_SIGNALS.index(e.when.signal)
+            ev["op"][i] = OP_ABOVE if e.when.above is not None else OP_BELOW
+            ev["threshold"][i] = e.when.above if e.when.above is not None else e.when.below
+        ev["action"][i] = ACTIONS.index(e.action)
+        if e.action == "set_input":
+            if e.input not in lay.INPUTS:
+                raise InputError(f"{where}: events.{i}.input = {e.input!r}: unknown{did_you_mean(e.input, lay.INPUTS)}; inputs: {', '.join(lay.INPUTS)}")
+            ev["target"][i] = INPUTS.index(e.input)
+            if e.input == "gear_lever":
+                if str(e.value) not in gear_names:
+                    raise InputError(f"{where}: events.{i}.value = {e.value!r}: not a gear{did_you_mean(str(e.value), gear_names)}")
+                ev["value"][i] = gear_names.index(str(e.value))
+            else:
+                try:
+                    ev["value"][i] = float(e.value)
+                except (TypeError, ValueError):
+                    raise InputError(f"{where}: events.{i}.value = {e.value!r}: give a number") from None
+                if not math.isfinite(ev["value"][i]):
+                    raise InputError(f"{where}: events.{i}.value: NaN or inf is not allowed")
+        elif e.action == "sensor_fault":
+            if e.sensor not in names:
+                raise InputError(f"{where}: events.{i}.sensor = {e.sensor!r}: unknown sensor{did_you_mean(e.sensor, names)}; sensors: {', '.join(names)}")
+            si = names.index(e.sensor)
+            ev["target"][i] = si
+            ev["value"][i] = FAULTS[e.fault]
+            unit_suffix = lay.SENSORS[si][len(e.sensor):]
+            for extra, value in (e.model_extra or {}).items():
+                si_key, si_value = to_si(extra, float(value))
+                if si_key != f"bias{unit_suffix}":
+                    raise InputError(f"{where}: events.{i}.{extra}: unknown key; a bias fault takes bias{unit_suffix}")
+                ev["value2"][i] = si_value
+    flat["event_count"] = float(len(m.events))
+    for key, arr in ev.items():
+        flat[f"event_{key}"] = arr
+
+    # checks name known metrics
+    from vehicle_assist.metrics import known_metric_names
+
+    known = known_metric_names()
+    for i, c in enumerate(m.checks):
+        if c.metric not in known:
+            raise InputError(f"{where}: checks.{i}.metric = {c.metric!r}: unknown metric{did_you_mean(c.metric, known)}; see 'vehicle-assist metrics'")
+    return flat

@@ -1,0 +1,235 @@
+"""Run scenarios: one at a time (full trace) or as a batch of variants on both cores.
+
+The compiled kernel of the scenario's layout does the stepping; this module packs the records, draws
+the seeded sensor noise, turns the kernel's buffers into a :class:`Trace` with events, and evaluates
+metrics and checks. Batches pack every variant into one record array (one dtype, so one compiled
+kernel), split it across threads (the kernels release the GIL) and keep only the asked-for channels.
+"""
+from __future__ import annotations
+
+import math
+import os
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from typing import Callable, Iterable, Sequence
+
+import numpy as np
+
+import vehicle_assist
+from vehicle_assist.core.fsm import EVENT_FIELDS, StateMachine, Transition, decode_events
+from vehicle_assist.core.records import pack
+from vehicle_assist.core.tables import Table
+from vehicle_assist.core.trace import Trace
+from vehicle_assist.metrics import compute_metrics
+from vehicle_assist.scenarios.loader import LoadedScenario
+from vehicle_assist.vehicles import layouts
+from vehicle_assist.vehicles.common import EVENT_BUFFER
+
+TABLE_CAPACITY_STEP = 32  # table and array fields are padded to multiples of this: one dtype, one compile
+
+
+@dataclass
+class CheckResult:
+    metric: str
+    value: float
+    min: float | None
+    max: float | None
+    expect: str
+    passed: bool  # the bound holds
+    ok: bool  # the outcome is what the scenario expects (a negative control expects a failed bound)
+    why: str = ""
+
+    @property
+    def bound(self) -> str:
+        parts = []
+        if self.min is not None:
+            parts.append(f">= {self.min:g}")
+        if self.max is not None:
+            parts.append(f"<= {self.max:g}")
+        return " and ".join(parts)
+
+    def as_dict(self) -> dict:
+        return {"metric": self.metric, "value": self.value, "min": self.min, "max": self.max, "bound": self.bound,
+                "expect": self.expect, "bound_holds": self.passed, "ok": self.ok, "why": self.why}
+
+
+@dataclass
+class Result:
+    scenario: LoadedScenario
+    trace: Trace
+    metrics: dict[str, float]
+    checks: list[CheckResult] = field(default_factory=list)
+
+    @property
+    def events(self):
+        return self.trace.events
+
+    @property
+    def ok(self) -> bool:
+        return all(c.ok for c in self.checks)
+
+
+def _capacities(flats: Sequence[dict]) -> dict[str, int]:
+    caps: dict[str, int] = {}
+    for flat in flats:
+        for name, value in flat.items():
+            n = len(value.x) if isinstance(value, Table) else len(value) if isinstance(value, np.ndarray) else 0
+            if n:
+                caps[name] = max(caps.get(name, 0), n)
+    return {k: TABLE_CAPACITY_STEP * math.ceil(v / TABLE_CAPACITY_STEP) for k, v in caps.items()}
+
+
+def pack_records(flats: Sequence[dict]) -> np.recarray:
+    from vehicle_assist.core.records import record_dtype
+
+    caps = _capacities(flats)
+    # pad every table/array to its capacity by packing through a dtype built with those capacities
+    dtype = record_dtype(flats[0], caps)
+    arr = pack(list(flats))
+    if arr.dtype == dtype:
+        return arr
+    out = np.zeros(len(flats), dtype=dtype)
+    for name in dtype.names:
+        src = arr[name]
+        if src.ndim == 2:
+            out[name][:, : src.shape[1]] = src
+            if src.shape[1] < out[name].shape[1]:
+                if name.endswith("_x"):
+                    out[name][:, src.shape[1]:] = src[:, -1:] + np.arange(1, out[name].shape[1] - src.shape[1] + 1)
+                elif name.endswith("_y"):
+                    out[name][:, src.shape[1]:] = src[:, -1:]
+                else:
+                    out[name][:, src.shape[1]:] = np.nan
+        else:
+            out[name] = src
+    return out.view(np.recarray)
+
+
+def _noise(sc: LoadedScenario, n_sensors: int) -> np.ndarray:
+    run = sc.model.run
+    ticks = int(round(run.duration_s / run.controller_period_s)) + 2
+    return np.random.default_rng(run.seed).standard_normal((ticks, n_sensors))
+
+
+def _n_records(sc: LoadedScenario) -> int:
+    run = sc.model.run
+    return int(math.floor(run.duration_s / run.record_period_s + 1e-9)) + 1
+
+
+def scenario_machines(sc: LoadedScenario) -> list[StateMachine]:
+    lay = layouts.get(sc.layout)
+    names = []
+    for i, e in enumerate(sc.model.events):
+        what = e.input if e.action == "set_input" else (f"{e.sensor} {e.fault}" if e.action == "sensor_fault" else "stop")
+        names.append(f"event {i}: {e.action} {what}")
+    trans = tuple(Transition("PENDING", "FIRED", n) for n in names) or (Transition("PENDING", "FIRED", "none"),)
+    return list(lay.MACHINES) + [StateMachine("scenario", ("PENDING", "FIRED"), trans)]
+
+
+def evaluate_checks(sc: LoadedScenario, metrics: dict[str, float]) -> list[CheckResult]:
+    out = []
+    for c in sc.model.checks:
+        value = metrics.get(c.metric, float("nan"))
+        holds = math.isfinite(value) and (c.min is None or value >= c.min) and (c.max is None or value <= c.max)
+        ok = holds if c.expect == "pass" else not holds
+        out.append(CheckResult(c.metric, value, c.min, c.max, c.expect, holds, ok, c.why))
+    return out
+
+
+def _meta(sc: LoadedScenario) -> dict[str, str]:
+    run = sc.model.run
+    return {
+        "package_version": vehicle_assist.__version__,
+        "scenario": sc.name,
+        "scenario_file": str(sc.path) if sc.path else "",
+        "scenario_hash": sc.scenario_hash(),
+        "parameter_hash": sc.parameter_hash(),
+        "vehicle": sc.vehicle.model.name,
+        "layout": sc.layout,
+        "plant_step_s": repr(run.plant_step_s),
+        "controller_period_s": repr(run.controller_period_s),
+        "record_period_s": repr(run.record_period_s),
+        "seed": str(run.seed),
+        "overrides": ";".join(sc.sets),
+    }
+
+
+def simulate(sc: LoadedScenario) -> Result:
+    """Run one scenario and return its full trace, metrics, events and checks."""
+    lay = layouts.get(sc.layout)
+    p = pack_records([sc.vehicle.flat()])
+    s = pack_records([sc.flat])
+    trace_rows = np.zeros(_n_records(sc), dtype=lay.TRACE_DTYPE).view(np.recarray)
+    events = np.zeros((EVENT_BUFFER, EVENT_FIELDS))
+    n_rec, n_ev = lay.run_kernel(p[0], s[0], _noise(sc, len(lay.SENSORS)), trace_rows, events)
+    channels = {name: np.array(trace_rows[name][:n_rec]) for name in lay.CHANNELS}
+    trace = Trace(channels, dict(lay.CHANNELS), _meta(sc), decode_events(events, n_ev, scenario_machines(sc)))
+    metrics = compute_metrics(trace)
+    return Result(sc, trace, metrics, evaluate_checks(sc, metrics))
+
+
+@dataclass
+class BatchResult:
+    """Per-variant metrics (and the kept channels, decimated) of a batch."""
+
+    metrics: list[dict[str, float]]
+    channels: list[dict[str, np.ndarray]]
+    checks_ok: list[bool]
+
+
+def simulate_batch(
+    scenarios: Sequence[LoadedScenario],
+    keep_channels: Iterable[str] = (),
+    keep_every: int = 1,
+    metric_names: Iterable[str] | None = None,
+    workers: int | None = None,
+    progress: Callable[[int], None] | None = None,
+) -> BatchResult:
+    """Run many variants of one layout in one call, on ``workers`` threads (default: all cores).
+
+    Memory stays bounded: each worker reuses one trace buffer; only ``keep_channels`` (every
+    ``keep_every``-th record) and the metrics of each variant are kept.
+    """
+    if not scenarios:
+        return BatchResult([], [], [])
+    layout = scenarios[0].layout
+    if any(sc.layout != layout for sc in scenarios):
+        raise ValueError("a batch must use one vehicle layout; split it by layout")
+    lay = layouts.get(layout)
+    keep = [c for c in keep_channels]
+    for c in keep:
+        if c not in lay.CHANNELS:
+            raise ValueError(f"unknown channel {c!r} for {layout}")
+    names = list(metric_names) if metric_names is not None else None
+    p_all = pack_records([sc.vehicle.flat() for sc in scenarios])
+    s_all = pack_records([sc.flat for sc in scenarios])
+    n = len(scenarios)
+    metrics: list[dict] = [{} for _ in range(n)]
+    kept: list[dict] = [{} for _ in range(n)]
+    oks: list[bool] = [True] * n
+    workers = workers or min(os.cpu_count() or 1, n)
+    machines = scenario_machines(scenarios[0])
+
+    def work(indices: list[int]) -> None:
+        cap = max(_n_records(scenarios[i]) for i in indices)
+        rows = np.zeros(cap, dtype=lay.TRACE_DTYPE).view(np.recarray)
+        events = np.zeros((EVENT_BUFFER, EVENT_FIELDS))
+        for i in indices:
+            sc = scenarios[i]
+            n_rec, n_ev = lay.run_kernel(p_all[i], s_all[i], _noise(sc, len(lay.SENSORS)), rows, events)
+            channels = {name: rows[name][:n_rec] for name in lay.CHANNELS}
+            trace = Trace(channels, {}, {}, decode_events(events, n_ev, machines))
+            m = compute_metrics(trace, names)
+            metrics[i] = m
+            oks[i] = all(c.ok for c in evaluate_checks(sc, m))
+            kept[i] = {c: np.array(rows[c][:n_rec:keep_every]) for c in (["time_s"] + keep if keep else [])}
+            if progress is not None:
+                progress(1)
+
+    chunks = [list(range(w, n, workers)) for w in range(workers)]
+    if workers == 1:
+        work(chunks[0])
+    else:
+        with ThreadPoolExecutor(workers) as pool:
+            list(pool.map(work, chunks))
+    return BatchResult(metrics, kept, oks)

@@ -1,0 +1,227 @@
+"""Scenario files: vehicle + road + driver inputs + events + run settings + checks, validated on load.
+
+Units are explicit in the keys (``slope_deg``, ``duration_s``). Every table's breakpoints must be
+strictly increasing, every number finite, every key known. See docs/scenarios.md for the format.
+"""
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal, Union
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from vehicle_assist.core.tables import Table
+
+MAX_SLOPE_DEG = 45.0
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+
+Time = Annotated[float, Field(ge=0, le=3600)]
+Frac = Annotated[float, Field(ge=0, le=1)]
+Slope = Annotated[float, Field(ge=-MAX_SLOPE_DEG, le=MAX_SLOPE_DEG)]
+Distance = Annotated[float, Field(ge=-1e6, le=1e6)]
+
+
+def _check_table(xs: list, ys: list, x_name: str, y_name: str) -> None:
+    Table(x_name, y_name, tuple(float(v) for v in xs), tuple(float(v) if not isinstance(v, str) else 0.0 for v in ys))
+
+
+class SlopeTable(Strict):
+    distance_m: list[Distance] = Field(min_length=1)
+    slope_deg: list[Slope] = Field(min_length=1)
+
+    @model_validator(mode="after")
+    def _t(self):
+        _check_table(self.distance_m, self.slope_deg, "distance_m", "slope_deg")
+        return self
+
+
+class CoeffTable(Strict):
+    distance_m: list[Distance] = Field(min_length=1)
+    coeff: list[Annotated[float, Field(ge=0, le=0.2)]] = Field(min_length=1)
+
+    @model_validator(mode="after")
+    def _t(self):
+        _check_table(self.distance_m, self.coeff, "distance_m", "coeff")
+        return self
+
+
+class FrictionTable(Strict):
+    distance_m: list[Distance] = Field(min_length=1)
+    mu: list[Annotated[float, Field(ge=0, le=2)]] = Field(min_length=1)
+
+    @model_validator(mode="after")
+    def _t(self):
+        _check_table(self.distance_m, self.mu, "distance_m", "mu")
+        return self
+
+
+class RadiusTable(Strict):
+    """Curve radius over distance (reserved for curve-aware shifting; validated, not yet simulated)."""
+
+    distance_m: list[Distance] = Field(min_length=1)
+    radius_m: list[Annotated[float, Field(ge=5)]] = Field(min_length=1)
+
+    @model_validator(mode="after")
+    def _t(self):
+        _check_table(self.distance_m, self.radius_m, "distance_m", "radius_m")
+        return self
+
+
+class Road(Strict):
+    slope_deg: Slope | None = None
+    slope: SlopeTable | None = None
+    rolling_resistance_coeff: Annotated[float, Field(ge=0, le=0.2)] | None = None
+    rolling_resistance: CoeffTable | None = None
+    friction: FrictionTable | None = None
+    curve_radius: RadiusTable | None = None
+
+    @model_validator(mode="after")
+    def _one(self):
+        if self.slope_deg is not None and self.slope is not None:
+            raise ValueError("give either slope_deg (constant) or slope (table over distance), not both")
+        if self.rolling_resistance_coeff is not None and self.rolling_resistance is not None:
+            raise ValueError("give either rolling_resistance_coeff or rolling_resistance (table), not both")
+        return self
+
+
+class PedalTable(Strict):
+    time_s: list[Time] = Field(min_length=1)
+    frac: list[Frac] = Field(min_length=1)
+
+    @model_validator(mode="after")
+    def _t(self):
+        _check_table(self.time_s, self.frac, "time_s", "frac")
+        return self
+
+
+class GearTable(Strict):
+    time_s: list[Time] = Field(min_length=1)
+    gear: list[str] = Field(min_length=1)
+
+    @model_validator(mode="after")
+    def _t(self):
+        _check_table(self.time_s, self.gear, "time_s", "gear")
+        return self
+
+
+class SwitchTable(Strict):
+    time_s: list[Time] = Field(min_length=1)
+    released: list[Annotated[int, Field(ge=0, le=1)]] = Field(min_length=1)
+
+    @model_validator(mode="after")
+    def _t(self):
+        _check_table(self.time_s, self.released, "time_s", "released")
+        return self
+
+
+class SteeringTable(Strict):
+    time_s: list[Time] = Field(min_length=1)
+    angle_deg: list[Annotated[float, Field(ge=-720, le=720)]] = Field(min_length=1)
+
+    @model_validator(mode="after")
+    def _t(self):
+        _check_table(self.time_s, self.angle_deg, "time_s", "angle_deg")
+        return self
+
+
+class Driver(Strict):
+    model: Literal["scripted"] = "scripted"
+    accelerator: PedalTable | None = None
+    brake_pedal: PedalTable | None = None
+    gear_lever: GearTable | None = None
+    hand_valve: SwitchTable | None = None
+    steering: SteeringTable | None = None
+
+
+class Run(Strict):
+    duration_s: Annotated[float, Field(gt=0, le=3600)]
+    plant_step_s: Annotated[float, Field(ge=1e-5, le=0.01)] = 0.001
+    controller_period_s: Annotated[float, Field(ge=1e-4, le=0.1)] = 0.01
+    record_period_s: Annotated[float, Field(ge=1e-5, le=1.0)] = 0.01
+    seed: Annotated[int, Field(ge=0)] = 0
+    initial_speed_kph: Annotated[float, Field(ge=-50, le=250)] = 0.0
+    initial_position_m: Distance = 0.0
+
+    @model_validator(mode="after")
+    def _rates(self):
+        for name in ("controller_period_s", "record_period_s"):
+            ratio = getattr(self, name) / self.plant_step_s
+            if abs(ratio - round(ratio)) > 1e-6 or round(ratio) < 1:
+                raise ValueError(f"{name} = {getattr(self, name):g} must be a whole multiple of plant_step_s = {self.plant_step_s:g}")
+        return self
+
+
+class Sensor(Strict):
+    """Per-sensor options; noise and bias keys carry the sensor's unit (e.g. noise_std_rpm)."""
+
+    model_config = ConfigDict(extra="allow", frozen=True, allow_inf_nan=False)
+    delay_s: Annotated[float, Field(ge=0, le=1)] = 0.0
+
+
+class Condition(Strict):
+    signal: str
+    above: float | None = None
+    below: float | None = None
+
+    @model_validator(mode="after")
+    def _one(self):
+        if (self.above is None) == (self.below is None):
+            raise ValueError("a condition needs exactly one of 'above' or 'below'")
+        return self
+
+
+class EventSpec(Strict):
+    at_s: Time | None = None
+    when: Condition | None = None
+    action: Literal["set_input", "sensor_fault", "stop"]
+    input: str | None = None
+    value: float | str | None = None
+    sensor: str | None = None
+    fault: Literal["lost", "stuck", "bias"] | None = None
+    model_config = ConfigDict(extra="allow", frozen=True, allow_inf_nan=False)  # bias_<unit>
+
+    @model_validator(mode="after")
+    def _shape(self):
+        if self.at_s is None and self.when is None:
+            raise ValueError("an event needs 'at_s' (a time) or 'when' (a condition), or both")
+        if self.action == "set_input" and (self.input is None or self.value is None):
+            raise ValueError("action 'set_input' needs 'input' and 'value'")
+        if self.action == "sensor_fault" and (self.sensor is None or self.fault is None):
+            raise ValueError("action 'sensor_fault' needs 'sensor' and 'fault' (lost, stuck or bias)")
+        return self
+
+
+class Check(Strict):
+    metric: str
+    min: float | None = None
+    max: float | None = None
+    expect: Literal["pass", "fail"] = "pass"
+    why: str = ""
+
+    @model_validator(mode="after")
+    def _bound(self):
+        if self.min is None and self.max is None:
+            raise ValueError("a check needs 'min' or 'max' (or both)")
+        return self
+
+
+class VehicleRef(Strict):
+    model_config = ConfigDict(extra="allow", frozen=True, allow_inf_nan=False)  # subsystem overrides
+    base: str
+
+
+class Scenario(Strict):
+    name: str
+    description: str = ""
+    source: str = ""
+    vehicle: VehicleRef
+    road: Road = Road()
+    driver: Driver = Driver()
+    run: Run
+    sensors: dict[str, Sensor] = {}
+    events: list[EventSpec] = []
+    checks: list[Check] = []
+    paper: str = ""

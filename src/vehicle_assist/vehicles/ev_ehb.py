@@ -1,0 +1,292 @@
+"""Compact battery-electric car with EHB: longitudinal body on a grade + single-speed motor drive +
+four hydraulic disc brakes fed by an electro-hydraulic brake actuator (hill_start_ehb.md 2, 3).
+
+Per plant step (1 ms): events and driver; every controller period sample the sensors and run the VCU;
+then the motor torque lag, the EHB pressure, and the vehicle with stick/slip at standstill:
+
+    F_t = T_m*i_0*eta/r        F_b_cap = K_b_tot*p/r,  K_b_tot = 2*K_b_front + 2*K_b_rear
+    delta*m*dv/dt = F_t - F_f - F_w - F_i - F_b       (brake and rolling resistance are reactions at rest)
+    delta*m = m + sum(J_w)/r^2 + J_m*i_0^2*eta/r^2
+"""
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+from vehicle_assist.conventions import G_MPS2, STANDSTILL_SPEED_MPS
+from vehicle_assist.core.fsm import StateMachine, Transition, log_event
+from vehicle_assist.functions import ev_vcu
+from vehicle_assist.plant.brakes.ehb import ehb_pressure_step
+from vehicle_assist.plant.brakes.hydraulic import brake_gain_nm_per_pa, piston_area_m2
+from vehicle_assist.plant.longitudinal import (
+    aero_drag_n,
+    equivalent_mass_kg,
+    grade_resistance_n,
+    rolling_resistance_capacity_n,
+    stick_slip_step,
+)
+from vehicle_assist.plant.powertrain.clutch import sign
+from vehicle_assist.plant.powertrain.gearbox import efficiency_factor
+from vehicle_assist.plant.powertrain.motor import motor_torque_step
+from vehicle_assist.plant.sensors import sample_sensors
+from vehicle_assist.vehicles.common import (
+    ACT_SENSOR_FAULT,
+    ACT_SET_INPUT,
+    ACT_STOP,
+    EVENT_CAPACITY,
+    IN_ACCELERATOR,
+    IN_BRAKE_PEDAL,
+    IN_GEAR_LEVER,
+    driver_inputs,
+    due_events,
+    road_at,
+)
+
+LAYOUT = "ev_ehb"
+G = G_MPS2
+V_EPS = STANDSTILL_SPEED_MPS
+
+SENSORS = (
+    "vehicle_speed_mps",
+    "motor_speed_radps",
+    "motor_torque_nm",
+    "brake_pressure_pa",
+    "longitudinal_accel_mps2",
+    "brake_pedal_frac",
+    "accelerator_frac",
+    "gear_lever_index",
+)
+MEAS_DTYPE = np.dtype([(n, "f8") for n in SENSORS] + [(n.rsplit("_", 1)[0] + "_ok", "f8") for n in SENSORS])
+EVENT_SIGNALS = ("speed_mps", "position_m", "motor_torque_nm", "brake_pressure_pa")
+INPUTS = ("accelerator", "brake_pedal", "gear_lever")
+DEFAULT_GEAR_INDEX = 1  # D
+
+CHANNELS: dict[str, str] = {
+    "time_s": "time since the start of the run",
+    "position_m": "distance travelled along the road (uphill +)",
+    "speed_mps": "vehicle speed (forward +)",
+    "accel_mps2": "vehicle acceleration dv/dt",
+    "slope_rad": "road grade angle at the vehicle (uphill +)",
+    "drive_force_n": "motor torque at the wheels, T_m*i_0*eta/r (force on the vehicle, +x)",
+    "grade_resistance_n": "F_i = m*g*sin(gamma) (resistance, + opposes forward motion)",
+    "aero_drag_n": "F_w (resistance, + opposes forward motion)",
+    "rolling_resistance_force_n": "rolling resistance on the vehicle (+x); a reaction at rest",
+    "service_brake_force_n": "hydraulic brake force on the vehicle (+x); a reaction at rest",
+    "service_brake_capacity_n": "brake holding capacity at the ground, K_b_tot*p/r",
+    "brake_power_w": "power dissipated by the brakes while the vehicle moves",
+    "vehicle_held_flag": "1 while held at exactly zero speed by static friction",
+    "motor_speed_radps": "motor (rotor) speed",
+    "motor_torque_nm": "motor torque (after the torque lag)",
+    "motor_torque_request_nm": "motor torque requested by the VCU",
+    "brake_pressure_pa": "EHB (wheel-cylinder) pressure",
+    "brake_pressure_command_pa": "EHB pressure command",
+    "accelerator_frac": "driver accelerator pedal",
+    "brake_pedal_frac": "driver brake pedal",
+    "gear_index": "drive position (0 = N, 1 = D)",
+}
+TRACE_DTYPE = np.dtype([(name, "f8") for name in CHANNELS])
+MACHINES = (
+    StateMachine("vehicle", ("HELD", "MOVING"), (
+        Transition("HELD", "MOVING", "drive_exceeds_hold_capacity"),
+        Transition("MOVING", "HELD", "static_friction_holds"),
+    )),
+    ev_vcu.MACHINE,
+)
+M_VEHICLE, M_VCU = range(2)
+M_SCENARIO = len(MACHINES)
+
+
+@nb.njit(cache=True, nogil=True)
+def simulate(p, s, noise, meas, vcu, tr, events):
+    """Run one scenario; arguments as in :func:`vehicle_assist.vehicles.truck_amt.simulate`."""
+    dt = s.plant_step_s
+    n_steps = int(round(s.duration_s / dt))
+    ctrl_every = max(1, int(round(s.controller_period_s / dt)))
+    rec_every = max(1, int(round(s.record_period_s / dt)))
+    n_sens = noise.shape[1]
+    m_kg = p.body_mass_kg
+    r = p.body_wheel_radius_m
+    i0 = p.motor_reduction_ratio
+    eta = p.motor_efficiency_frac
+    k_b = p.brakes_total_gain_nm_per_pa
+
+    inputs = np.zeros(5)
+    override_on = np.zeros(5, dtype=np.bool_)
+    override_value = np.zeros(5)
+    fired = np.zeros(EVENT_CAPACITY, dtype=np.bool_)
+    due = np.zeros(EVENT_CAPACITY, dtype=np.bool_)
+    signals = np.zeros(4)
+    driver_inputs(s, 0.0, override_on, override_value, inputs)
+
+    depth = 1
+    for i in range(n_sens):
+        depth = max(depth, int(round(s.sensor_delay_s[i] / s.controller_period_s)) + 1)
+    history = np.zeros((n_sens, depth))
+    delay_ticks = np.zeros(n_sens)
+    for i in range(n_sens):
+        delay_ticks[i] = round(s.sensor_delay_s[i] / s.controller_period_s)
+    fault = np.zeros(n_sens)
+    fault_value = np.zeros(n_sens)
+    last = np.zeros(n_sens)
+    truth = np.zeros(n_sens)
+    values = np.zeros(n_sens)
+    ok = np.zeros(n_sens)
+
+    x = s.initial_position_m
+    v = s.initial_speed_mps
+    a = 0.0
+    t_m = 0.0
+    held = abs(v) < V_EPS
+    # the driver's initial pedal has built its pressure before the run starts
+    pressure = min(max(inputs[IN_BRAKE_PEDAL], 0.0), 1.0) * p.ehb_pedal_full_pressure_pa
+    vcu.brake_pressure_command_pa = pressure
+    slope = 0.0
+    f_t = 0.0
+    f_i = 0.0
+    f_w = 0.0
+    f_roll = 0.0
+    f_b = 0.0
+    f_b_cap = 0.0
+    p_brake = 0.0
+    n_events = 0
+    n_rec = 0
+    tick = 0
+    m_eq = equivalent_mass_kg(m_kg, p.body_wheel_inertia_total_kgm2, r, p.motor_rotor_inertia_kgm2, i0, eta)
+
+    for k in range(n_steps + 1):
+        t = k * dt
+        signals[0] = v
+        signals[1] = x
+        signals[2] = t_m
+        signals[3] = pressure
+        stop = False
+        if s.event_count > 0 and due_events(s, fired, t, signals, due):
+            for e in range(int(s.event_count)):
+                if due[e]:
+                    n_events = log_event(events, n_events, t, M_SCENARIO, 0, 1, e)
+                    act = int(s.event_action[e])
+                    tgt = int(s.event_target[e])
+                    if act == ACT_SET_INPUT:
+                        override_on[tgt] = True
+                        override_value[tgt] = s.event_value[e]
+                    elif act == ACT_SENSOR_FAULT:
+                        fault[tgt] = s.event_value[e]
+                        fault_value[tgt] = s.event_value2[e]
+                    elif act == ACT_STOP:
+                        stop = True
+        driver_inputs(s, t, override_on, override_value, inputs)
+
+        if k % ctrl_every == 0:
+            truth[0] = v
+            truth[1] = v * i0 / r
+            truth[2] = t_m
+            truth[3] = pressure
+            truth[4] = a + G * math.sin(slope)
+            truth[5] = inputs[IN_BRAKE_PEDAL]
+            truth[6] = inputs[IN_ACCELERATOR]
+            truth[7] = round(inputs[IN_GEAR_LEVER])
+            sample_sensors(truth, history, tick, noise[min(tick, noise.shape[0] - 1)], s.sensor_noise_std, s.sensor_bias,
+                           delay_ticks, fault, fault_value, last, values, ok)
+            meas.vehicle_speed_mps = values[0]
+            meas.motor_speed_radps = values[1]
+            meas.motor_torque_nm = values[2]
+            meas.brake_pressure_pa = values[3]
+            meas.longitudinal_accel_mps2 = values[4]
+            meas.brake_pedal_frac = values[5]
+            meas.accelerator_frac = values[6]
+            meas.gear_lever_index = values[7]
+            meas.vehicle_speed_ok = ok[0]
+            meas.motor_speed_ok = ok[1]
+            meas.motor_torque_ok = ok[2]
+            meas.brake_pressure_ok = ok[3]
+            meas.longitudinal_accel_ok = ok[4]
+            meas.brake_pedal_ok = ok[5]
+            meas.accelerator_ok = ok[6]
+            meas.gear_lever_ok = ok[7]
+            n_events = ev_vcu.step(vcu, meas, p, s.controller_period_s, t, M_VCU, events, n_events)
+            tick += 1
+
+        # forces at t from the state at t
+        slope, f_coeff = road_at(s, x)
+        f_i = grade_resistance_n(m_kg, slope)
+        f_w = aero_drag_n(p.body_drag_area_m2, v)
+        f_roll_cap = rolling_resistance_capacity_n(m_kg, slope, f_coeff)
+        f_b_cap = k_b * pressure / r
+        f_t = t_m * i0 * efficiency_factor(t_m * v if v != 0.0 else t_m, eta) / r
+        was_held = held
+        v_new, a, held, reaction = stick_slip_step(v, f_t - f_i - f_w, f_roll_cap + f_b_cap, m_eq, dt, V_EPS)
+        if held:
+            f_b = min(max(reaction, -f_b_cap), f_b_cap)
+            f_roll = reaction - f_b
+            p_brake = 0.0
+        else:
+            d = sign(reaction)
+            f_b = d * f_b_cap
+            f_roll = d * f_roll_cap
+            p_brake = f_b_cap * abs(v)
+
+        if k % rec_every == 0 and n_rec < tr.shape[0]:
+            row = tr[n_rec]
+            row.time_s = t
+            row.position_m = x
+            row.speed_mps = v
+            row.accel_mps2 = a
+            row.slope_rad = slope
+            row.drive_force_n = f_t
+            row.grade_resistance_n = f_i
+            row.aero_drag_n = f_w
+            row.rolling_resistance_force_n = f_roll
+            row.service_brake_force_n = f_b
+            row.service_brake_capacity_n = f_b_cap
+            row.brake_power_w = p_brake
+            row.vehicle_held_flag = 1.0 if held else 0.0
+            row.motor_speed_radps = v * i0 / r
+            row.motor_torque_nm = t_m
+            row.motor_torque_request_nm = vcu.torque_request_nm
+            row.brake_pressure_pa = pressure
+            row.brake_pressure_command_pa = vcu.brake_pressure_command_pa
+            row.accelerator_frac = inputs[IN_ACCELERATOR]
+            row.brake_pedal_frac = inputs[IN_BRAKE_PEDAL]
+            row.gear_index = round(inputs[IN_GEAR_LEVER])
+            n_rec += 1
+        if k == n_steps or stop:
+            break
+
+        # advance to t + dt
+        if held != was_held:
+            n_events = log_event(events, n_events, t, M_VEHICLE, 0 if was_held else 1, 0 if held else 1, 1 if held else 0)
+        v = v_new
+        x += v * dt
+        t_m = motor_torque_step(t_m, vcu.torque_request_nm, v * i0 / r, p.motor_max_torque_nm, p.motor_max_power_w,
+                                p.motor_time_constant_s, dt)
+        pressure = ehb_pressure_step(pressure, vcu.brake_pressure_command_pa, p.ehb_time_constant_s,
+                                     p.ehb_build_rate_pa_per_s, p.ehb_release_rate_pa_per_s, p.ehb_max_pressure_pa, dt)
+    return n_rec, n_events
+
+
+def gear_names(model) -> list[str]:
+    return ["N", "D"]
+
+
+def derived(flat: dict) -> dict:
+    """Brake gain of the four wheels from caliper data (common.md 7.1): K_b_tot = 2*K_b_f + 2*K_b_r."""
+    out = dict(flat)
+    faces = flat["brakes_friction_faces_count"]
+    mu = flat["brakes_pad_friction_coeff"]
+    eff = flat["brakes_efficiency_frac"]
+    k_f = brake_gain_nm_per_pa(faces, mu, piston_area_m2(flat["brakes_front_piston_diameter_m"]), flat["brakes_front_effective_radius_m"], eff)
+    k_r = brake_gain_nm_per_pa(faces, mu, piston_area_m2(flat["brakes_rear_piston_diameter_m"]), flat["brakes_rear_effective_radius_m"], eff)
+    out["brakes_total_gain_nm_per_pa"] = 2.0 * k_f + 2.0 * k_r
+    return out
+
+
+def controller_states() -> tuple:
+    meas = np.zeros(1, dtype=MEAS_DTYPE).view(np.recarray)
+    return meas[0], ev_vcu.initial_state()[0]
+
+
+def run_kernel(p, s, noise, trace, events):
+    meas, vcu = controller_states()
+    return simulate(p, s, noise, meas, vcu, trace, events)

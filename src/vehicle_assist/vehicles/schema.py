@@ -1,0 +1,237 @@
+"""Vehicle parameter files: validated, frozen records with a source for every number.
+
+A vehicle file is TOML with ``name``, ``layout`` (which composition simulates it), ``description``,
+``source`` (the overall provenance) and one table per subsystem. Keys carry units (``mass_kg``,
+``idle_speed_rpm``); external units (rpm, bar, deg) are converted to SI when the record is built.
+Every numeric key of a subsystem needs an entry in that subsystem's ``source`` table (paper, standard,
+data sheet, or "assumed: why"). A file may start from another with ``base = "name"`` and override keys.
+
+Bounds are physical plausibility ranges: a value outside is an input error, not a modelling choice.
+"""
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from vehicle_assist.core.tables import Table, TableError
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+
+Pos = Annotated[float, Field(gt=0)]
+NonNeg = Annotated[float, Field(ge=0)]
+Frac = Annotated[float, Field(ge=0, le=1)]
+
+
+class TorqueCurve(Strict):
+    speed_rpm: list[Annotated[float, Field(ge=0, le=10000)]]
+    torque_nm: list[Annotated[float, Field(ge=0, le=20000)]]
+    extrapolation: Literal["clamp", "linear"] = "clamp"
+
+    @model_validator(mode="after")
+    def _table(self):
+        Table("speed_rpm", "torque_nm", tuple(self.speed_rpm), tuple(self.torque_nm), self.extrapolation)
+        return self
+
+
+class PedalMap(Strict):
+    accelerator_frac: list[Frac]
+    torque_nm: list[Annotated[float, Field(ge=-5000, le=5000)]]
+
+    @model_validator(mode="after")
+    def _table(self):
+        Table("accelerator_frac", "torque_nm", tuple(self.accelerator_frac), tuple(self.torque_nm))
+        return self
+
+
+class Body(Strict):
+    """Rigid body and wheels of the longitudinal model (common.md 3-5)."""
+
+    mass_kg: Annotated[float, Field(ge=100, le=100000)]
+    wheel_radius_m: Annotated[float, Field(ge=0.1, le=1.5)]
+    wheel_inertia_total_kgm2: Annotated[float, Field(ge=0, le=2000)]
+    drag_area_m2: Annotated[float, Field(ge=0, le=20)]
+    rolling_resistance_coeff: Annotated[float, Field(ge=0, le=0.2)]
+
+
+class Engine(Strict):
+    """All-speed governed diesel (hill_start_amt.md 5.1)."""
+
+    idle_speed_rpm: Annotated[float, Field(ge=300, le=1500)]
+    high_idle_speed_rpm: Annotated[float, Field(ge=800, le=6000)]
+    governor_gain_nm_per_rpm: Annotated[float, Field(gt=0, le=1000)]
+    inertia_kgm2: Annotated[float, Field(gt=0, le=50)]
+    stall_speed_rpm: Annotated[float, Field(ge=50, le=1000)]
+    friction_offset_nm: Annotated[float, Field(ge=0, le=1000)]
+    friction_slope_nm_per_rpm: Annotated[float, Field(ge=0, le=10)]
+    full_load_torque: TorqueCurve
+
+    @model_validator(mode="after")
+    def _order(self):
+        if not self.stall_speed_rpm < self.idle_speed_rpm < self.high_idle_speed_rpm:
+            raise ValueError(
+                f"need stall_speed_rpm < idle_speed_rpm < high_idle_speed_rpm, got {self.stall_speed_rpm:g} / "
+                f"{self.idle_speed_rpm:g} / {self.high_idle_speed_rpm:g}"
+            )
+        return self
+
+
+class Clutch(Strict):
+    """Dry clutch and its actuator (hill_start_amt.md 5.2)."""
+
+    max_torque_nm: Annotated[float, Field(gt=0, le=20000)]
+    kiss_point_frac: Annotated[float, Field(ge=0, lt=1)]
+    capacity_exponent: Annotated[float, Field(ge=0.5, le=4)]
+    input_inertia_kgm2: Annotated[float, Field(gt=0, le=20)]
+    actuator_time_constant_s: Annotated[float, Field(gt=0, le=2)]
+    actuator_max_rate_per_s: Annotated[float, Field(gt=0, le=100)]
+
+
+class Gearbox(Strict):
+    """Stepped AMT gearbox and final drive (gear 0 = neutral, 1..n = ratios in this order)."""
+
+    gear_names: list[str] = Field(min_length=1, max_length=24)
+    ratios: list[Annotated[float, Field(gt=0, le=30)]] = Field(min_length=1, max_length=24)
+    final_drive_ratio: Annotated[float, Field(gt=0, le=20)]
+    efficiency_frac: Annotated[float, Field(gt=0.5, le=1)]
+    shift_time_s: Annotated[float, Field(ge=0, le=5)]
+
+    @model_validator(mode="after")
+    def _names(self):
+        if len(self.gear_names) != len(self.ratios):
+            raise ValueError(f"gear_names has {len(self.gear_names)} entries but ratios has {len(self.ratios)}; give one name per ratio")
+        if len(set(self.gear_names)) != len(self.gear_names) or "N" in self.gear_names:
+            raise ValueError("gear_names must be unique and must not use 'N' (neutral is gear 0)")
+        return self
+
+
+class AirServiceBrake(Strict):
+    """Air service brake, lumped: ground force capacity proportional to pedal after a lag."""
+
+    max_force_n: Annotated[float, Field(gt=0, le=1e6)]
+    time_constant_s: Annotated[float, Field(gt=0, le=5)]
+
+
+class SpringParkBrake(Strict):
+    """Spring park brake with relay valve and reservoir (hill_start_amt.md 3, 5.3)."""
+
+    reservoir_pressure_bar: Annotated[float, Field(ge=0, le=15)]
+    fill_time_constant_s: Annotated[float, Field(gt=0, le=30)]
+    exhaust_time_constant_s: Annotated[float, Field(gt=0, le=30)]
+    release_start_pressure_bar: Annotated[float, Field(ge=0, le=15)]
+    release_full_pressure_bar: Annotated[float, Field(gt=0, le=15)]
+    lamp_pressure_bar: Annotated[float, Field(gt=0, le=15)]
+    max_force_n: Annotated[float, Field(gt=0, le=1e6)]
+
+    @model_validator(mode="after")
+    def _order(self):
+        if not self.release_start_pressure_bar < self.release_full_pressure_bar:
+            raise ValueError("release_start_pressure_bar must be below release_full_pressure_bar")
+        return self
+
+
+class AmtLaunch(Strict):
+    """Parameters of the AMT's normal start program (functions/amt_launch.py)."""
+
+    launch_accelerator_frac: Frac
+    approach_rate_per_s: Annotated[float, Field(gt=0, le=20)]
+    engage_rate_per_s: Annotated[float, Field(gt=0, le=20)]
+    back_off_rate_per_s: Annotated[float, Field(ge=0, le=20)]
+    anti_stall_speed_rpm: Annotated[float, Field(ge=0, le=2000)]
+    lockup_slip_rpm: Annotated[float, Field(gt=0, le=1000)]
+    lockup_rate_per_s: Annotated[float, Field(gt=0, le=20)]
+    moving_speed_mps: Annotated[float, Field(ge=0, le=5)]
+
+
+class TractionMotor(Strict):
+    max_torque_nm: Annotated[float, Field(gt=0, le=5000)]
+    max_power_kw: Annotated[float, Field(gt=0, le=1000)]
+    rotor_inertia_kgm2: Annotated[float, Field(ge=0, le=5)]
+    time_constant_s: Annotated[float, Field(gt=0, le=2)]
+    reduction_ratio: Annotated[float, Field(gt=0, le=30)]
+    efficiency_frac: Annotated[float, Field(gt=0.5, le=1)]
+    pedal_map: PedalMap
+
+
+class HydraulicBrakes(Strict):
+    """Four hydraulic disc brakes fed by one EHB pressure (common.md 7.1)."""
+
+    front_piston_diameter_m: Annotated[float, Field(gt=0.01, le=0.15)]
+    rear_piston_diameter_m: Annotated[float, Field(gt=0.01, le=0.15)]
+    front_effective_radius_m: Annotated[float, Field(gt=0.03, le=0.5)]
+    rear_effective_radius_m: Annotated[float, Field(gt=0.03, le=0.5)]
+    pad_friction_coeff: Annotated[float, Field(gt=0.05, le=1)]
+    efficiency_frac: Annotated[float, Field(gt=0.5, le=1)]
+    friction_faces_count: Annotated[float, Field(ge=1, le=2)]
+
+
+class Ehb(Strict):
+    """Electro-hydraulic brake actuator (hill_start_ehb.md 2.5) and its by-wire pedal map."""
+
+    time_constant_s: Annotated[float, Field(gt=0, le=2)]
+    build_rate_bar_per_s: Annotated[float, Field(gt=0, le=10000)]
+    release_rate_bar_per_s: Annotated[float, Field(gt=0, le=10000)]
+    max_pressure_bar: Annotated[float, Field(gt=0, le=300)]
+    pedal_full_pressure_bar: Annotated[float, Field(gt=0, le=300)]
+
+
+class TruckAmt(Strict):
+    name: str
+    layout: Literal["truck_amt"]
+    description: str
+    source: str
+    body: Body
+    engine: Engine
+    clutch: Clutch
+    gearbox: Gearbox
+    service_brake: AirServiceBrake
+    park_brake: SpringParkBrake
+    amt_launch: AmtLaunch
+
+
+class EvEhb(Strict):
+    name: str
+    layout: Literal["ev_ehb"]
+    description: str
+    source: str
+    body: Body
+    motor: TractionMotor
+    brakes: HydraulicBrakes
+    ehb: Ehb
+
+
+LAYOUTS: dict[str, type[Strict]] = {"truck_amt": TruckAmt, "ev_ehb": EvEhb}
+TABLE_KEYS = {"full_load_torque": ("speed_rpm", "torque_nm"), "pedal_map": ("accelerator_frac", "torque_nm")}
+NON_NUMERIC = {"gear_names"}
+
+
+def flatten_vehicle(model: Strict) -> dict[str, float | Table | np.ndarray]:
+    """SI flat record ``section_key`` -> value (tables and arrays kept as such)."""
+    from vehicle_assist.units import to_si
+
+    flat: dict[str, float | Table | np.ndarray] = {}
+    for section_name, section in model:
+        if not isinstance(section, BaseModel):
+            continue
+        for key, value in section:
+            if key in NON_NUMERIC:
+                continue
+            if isinstance(value, BaseModel):
+                xk, yk = TABLE_KEYS[key]
+                xs, ys = getattr(value, xk), getattr(value, yk)
+                xn, _ = to_si(xk, 0.0)
+                yn, _ = to_si(yk, 0.0)
+                xf = to_si(xk, 1.0)[1]
+                yf = to_si(yk, 1.0)[1]
+                extrap = getattr(value, "extrapolation", "clamp")
+                flat[f"{section_name}_{key}"] = Table(xn, yn, tuple(v * xf for v in xs), tuple(v * yf for v in ys), extrap)
+            elif isinstance(value, list):
+                flat[f"{section_name}_{key}"] = np.asarray(value, dtype=float)
+            else:
+                name, si = to_si(key, float(value))
+                flat[f"{section_name}_{name}"] = si
+    return flat

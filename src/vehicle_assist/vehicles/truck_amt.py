@@ -1,0 +1,460 @@
+"""Heavy AMT truck: longitudinal body on a grade + governed diesel + dry clutch + AMT gearbox +
+air service brake + spring park brake, driven by the scenario's driver and the AMT start program.
+
+This module is the one place that knows plants, sensors, controllers and the driver of this vehicle.
+Each plant step (1 ms default):
+
+1. scenario events and driver inputs (pedals, gear lever, hand park valve);
+2. every controller period: sample all sensors (bias, noise, delay, faults), then run the controllers
+   on that one sample (sample, then advance);
+3. actuators (clutch actuator lag, AMT shift), pneumatics (service brake, relay valve + spring chambers);
+4. driveline and vehicle (clutch slip/lock, engine, stick/slip at standstill), semi-implicit Euler;
+5. every record period: write the trace row.
+
+Hybrid elements are state machines whose mode changes are logged as events:
+vehicle HELD/MOVING, clutch SLIPPING/LOCKED, engine RUNNING/STALLED, gearbox IN_GEAR/SHIFTING.
+Driveline equations (hill_start_amt.md 5.2):
+
+    slipping:  J_e*dw_e/dt = T_e - T_c,   T_c = T_cap*sign(w_e - w_in)
+               delta_v*m*dv/dt = T_c*i*eta/r - F_f - F_w - F_i - F_brakes     (stick/slip at rest)
+    locked:    (delta_v*m + J_e*(i/r)^2*eta)*dv/dt = T_e*i*eta/r - F_f - F_w - F_i - F_brakes
+               T_c = T_e - J_e*(i/r)*dv/dt, lock kept while |T_c| <= T_cap
+"""
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+from vehicle_assist.conventions import G_MPS2, STANDSTILL_SPEED_MPS
+from vehicle_assist.core.fsm import StateMachine, Transition, log_event
+from vehicle_assist.core.tables import interp
+from vehicle_assist.functions import amt_launch
+from vehicle_assist.plant.brakes.pneumatic import (
+    first_order_step,
+    hand_valve_control_pressure_pa,
+    park_brake_capacity_n,
+    spring_chamber_step,
+)
+from vehicle_assist.plant.longitudinal import (
+    aero_drag_n,
+    equivalent_mass_kg,
+    grade_resistance_n,
+    rolling_resistance_capacity_n,
+    stick_slip_step,
+)
+from vehicle_assist.plant.powertrain.clutch import actuator_step, clutch_capacity_nm, sign, slip_power_w
+from vehicle_assist.plant.powertrain.engine import engine_torque_nm
+from vehicle_assist.plant.powertrain.gearbox import efficiency_factor, gear_ratio, shift_step
+from vehicle_assist.plant.sensors import sample_sensors
+from vehicle_assist.vehicles.common import (
+    ACT_SENSOR_FAULT,
+    ACT_SET_INPUT,
+    ACT_STOP,
+    EVENT_CAPACITY,
+    IN_ACCELERATOR,
+    IN_BRAKE_PEDAL,
+    IN_GEAR_LEVER,
+    IN_HAND_VALVE,
+    driver_inputs,
+    due_events,
+    road_at,
+)
+
+LAYOUT = "truck_amt"
+G = G_MPS2
+V_EPS = STANDSTILL_SPEED_MPS
+W_EPS = 1e-6  # rad/s: slip speeds below this count as zero
+
+SENSORS = (
+    "vehicle_speed_mps",
+    "engine_speed_radps",
+    "input_shaft_speed_radps",
+    "clutch_position_frac",
+    "longitudinal_accel_mps2",
+    "park_lamp_flag",
+    "reservoir_pressure_pa",
+    "brake_pedal_frac",
+    "accelerator_frac",
+    "hand_valve_released_flag",
+    "gear_lever_index",
+    "gear_engaged_index",
+)
+SENSOR_DOC = {
+    "longitudinal_accel_mps2": "specific force along x: dv/dt + g*sin(slope); reads g*sin(slope) at rest",
+    "park_lamp_flag": "park-brake pressure switch: 1 while the spring chambers are below the lamp pressure",
+}
+MEAS_DTYPE = np.dtype([(n, "f8") for n in SENSORS] + [(n.rsplit("_", 1)[0] + "_ok", "f8") for n in SENSORS])
+EVENT_SIGNALS = ("speed_mps", "position_m", "engine_speed_radps", "clutch_position_frac", "park_chamber_pressure_pa")
+
+CHANNELS: dict[str, str] = {
+    "time_s": "time since the start of the run",
+    "position_m": "distance travelled along the road (uphill +)",
+    "speed_mps": "vehicle speed (forward +)",
+    "accel_mps2": "vehicle acceleration dv/dt",
+    "slope_rad": "road grade angle at the vehicle (uphill +)",
+    "drive_force_n": "clutch torque at the wheels, T_c*i*eta/r (force on the vehicle, +x)",
+    "grade_resistance_n": "F_i = m*g*sin(alpha) (resistance, + opposes forward motion)",
+    "aero_drag_n": "F_w (resistance, + opposes forward motion)",
+    "rolling_resistance_force_n": "rolling resistance acting on the vehicle (+x); a reaction at rest",
+    "service_brake_force_n": "service brake force on the vehicle (+x); a reaction at rest",
+    "service_brake_capacity_n": "service brake holding capacity at the ground",
+    "park_brake_force_n": "park brake force on the vehicle (+x = uphill, the F_g of paper 000); a reaction at rest",
+    "park_brake_capacity_n": "park brake holding capacity at the ground, F_g_cap(p_sp)",
+    "brake_power_w": "power dissipated by service and park brakes while the vehicle moves",
+    "vehicle_held_flag": "1 while held at exactly zero speed by static friction",
+    "engine_speed_radps": "engine (flywheel) speed",
+    "engine_torque_nm": "engine net torque at the flywheel",
+    "engine_stalled_flag": "1 once the engine has stalled",
+    "clutch_position_frac": "clutch actuator position (0 open, 1 fully engaged)",
+    "clutch_command_frac": "clutch position commanded by the AMT controller",
+    "clutch_capacity_nm": "clutch torque capacity at the actual position",
+    "clutch_torque_nm": "torque transmitted by the clutch",
+    "input_shaft_speed_radps": "gearbox input (clutch driven plate) speed",
+    "clutch_locked_flag": "1 while the clutch is locked (no slip)",
+    "clutch_slip_power_w": "power dissipated in the clutch |T_c*(w_e - w_in)|",
+    "gear_index": "engaged gear (0 = neutral or shifting; 1.. = the vehicle file's gear order)",
+    "park_chamber_pressure_pa": "spring-chamber pressure (gauge)",
+    "relay_control_pressure_pa": "relay-valve control-line pressure (gauge)",
+    "reservoir_pressure_pa": "air reservoir pressure (gauge)",
+    "park_lamp_flag": "park warning lamp (pressure switch): 1 = park brake applied",
+    "accelerator_frac": "driver accelerator pedal",
+    "brake_pedal_frac": "driver service brake pedal",
+    "hand_valve_released_flag": "driver hand park valve: 1 = released (supplies the control line)",
+    "amt_mode_index": "mode of the AMT start program (see the amt_launch state machine)",
+}
+TRACE_DTYPE = np.dtype([(name, "f8") for name in CHANNELS])
+
+MACHINES = (
+    StateMachine("vehicle", ("HELD", "MOVING"), (
+        Transition("HELD", "MOVING", "drive_exceeds_hold_capacity"),
+        Transition("MOVING", "HELD", "static_friction_holds"),
+    )),
+    StateMachine("clutch", ("SLIPPING", "LOCKED"), (
+        Transition("SLIPPING", "LOCKED", "slip_crossed_zero_within_capacity"),
+        Transition("LOCKED", "SLIPPING", "torque_exceeds_capacity"),
+    )),
+    StateMachine("engine", ("RUNNING", "STALLED"), (Transition("RUNNING", "STALLED", "speed_below_stall_speed"),)),
+    StateMachine("gearbox", ("IN_GEAR", "SHIFTING"), (
+        Transition("IN_GEAR", "SHIFTING", "gear_change_started"),
+        Transition("SHIFTING", "IN_GEAR", "gear_engaged"),
+    )),
+    amt_launch.MACHINE,
+)
+M_VEHICLE, M_CLUTCH, M_ENGINE, M_GEARBOX, M_AMT = range(5)
+M_SCENARIO = len(MACHINES)  # scenario events are logged under this id
+
+
+@nb.njit(cache=True, nogil=True)
+def simulate(p, s, noise, meas, tcu, tr, events):
+    """Run one scenario. ``p`` vehicle record, ``s`` scenario record, ``noise`` (ticks x sensors) standard
+    normal draws, ``meas``/``tcu`` measurement and controller-state records, ``tr`` trace rows, ``events``
+    event buffer. Returns (rows written, events logged)."""
+    dt = s.plant_step_s
+    n_steps = int(round(s.duration_s / dt))
+    ctrl_every = max(1, int(round(s.controller_period_s / dt)))
+    rec_every = max(1, int(round(s.record_period_s / dt)))
+    n_sens = len(noise[0]) if noise.shape[0] > 0 else 12
+    m_kg = p.body_mass_kg
+    r = p.body_wheel_radius_m
+    i0 = p.gearbox_final_drive_ratio
+    eta = p.gearbox_efficiency_frac
+    j_e = p.engine_inertia_kgm2
+    p_s = p.park_brake_reservoir_pressure_pa
+
+    # --- driver inputs, event state -----------------------------------------------------------
+    inputs = np.zeros(5)
+    override_on = np.zeros(5, dtype=np.bool_)
+    override_value = np.zeros(5)
+    fired = np.zeros(EVENT_CAPACITY, dtype=np.bool_)
+    due = np.zeros(EVENT_CAPACITY, dtype=np.bool_)
+    signals = np.zeros(5)
+    driver_inputs(s, 0.0, override_on, override_value, inputs)
+
+    # --- sensors -----------------------------------------------------------------------------
+    depth = 1
+    for i in range(n_sens):
+        depth = max(depth, int(round(s.sensor_delay_s[i] / s.controller_period_s)) + 1)
+    history = np.zeros((n_sens, depth))
+    delay_ticks = np.zeros(n_sens)
+    for i in range(n_sens):
+        delay_ticks[i] = round(s.sensor_delay_s[i] / s.controller_period_s)
+    fault = np.zeros(n_sens)
+    fault_value = np.zeros(n_sens)
+    last = np.zeros(n_sens)
+    truth = np.zeros(n_sens)
+    values = np.zeros(n_sens)
+    ok = np.zeros(n_sens)
+
+    # --- plant state -------------------------------------------------------------------------
+    x = s.initial_position_m
+    v = s.initial_speed_mps
+    a = 0.0
+    w_e = p.engine_idle_speed_radps
+    stalled = False
+    locked = False
+    x_c = 0.0
+    gear = int(round(inputs[IN_GEAR_LEVER]))  # start in the lever gear (driver selected it before)
+    gear_target = gear
+    shift_timer = 0.0
+    tcu.gear_command_index = gear
+    w_in = v * gear_ratio(p.gearbox_ratios, len(p.gearbox_ratios), gear) * i0 / r
+    held = abs(v) < V_EPS
+    p_ctrl = hand_valve_control_pressure_pa(inputs[IN_HAND_VALVE], p_s)
+    p_sp = p_ctrl
+    p_sb = inputs[IN_BRAKE_PEDAL]  # service brake chamber level, 0..1 of full
+    n_events = 0
+    n_rec = 0
+    tick = 0
+    t_c = 0.0
+    f_t = 0.0
+    f_roll = 0.0
+    f_sb = 0.0
+    f_pb = 0.0
+    f_sb_cap = 0.0
+    f_pb_cap = 0.0
+    p_brake = 0.0
+    t_e = 0.0
+    cap = 0.0
+    slope = 0.0
+    f_i = 0.0
+    f_w = 0.0
+
+    for k in range(n_steps + 1):
+        t = k * dt
+        # 1. scenario events, driver
+        signals[0] = v
+        signals[1] = x
+        signals[2] = w_e
+        signals[3] = x_c
+        signals[4] = p_sp
+        stop = False
+        if s.event_count > 0 and due_events(s, fired, t, signals, due):
+            for e in range(int(s.event_count)):
+                if due[e]:
+                    n_events = log_event(events, n_events, t, M_SCENARIO, 0, 1, e)
+                    act = int(s.event_action[e])
+                    tgt = int(s.event_target[e])
+                    if act == ACT_SET_INPUT:
+                        override_on[tgt] = True
+                        override_value[tgt] = s.event_value[e]
+                    elif act == ACT_SENSOR_FAULT:
+                        fault[tgt] = s.event_value[e]
+                        fault_value[tgt] = s.event_value2[e]
+                    elif act == ACT_STOP:
+                        stop = True
+        driver_inputs(s, t, override_on, override_value, inputs)
+
+        # 2. sample, then run the controllers on that sample
+        if k % ctrl_every == 0:
+            truth[0] = v
+            truth[1] = w_e
+            truth[2] = w_in
+            truth[3] = x_c
+            truth[4] = a + G * math.sin(slope)
+            truth[5] = 1.0 if p_sp < p.park_brake_lamp_pressure_pa else 0.0
+            truth[6] = p_s
+            truth[7] = inputs[IN_BRAKE_PEDAL]
+            truth[8] = inputs[IN_ACCELERATOR]
+            truth[9] = inputs[IN_HAND_VALVE]
+            truth[10] = round(inputs[IN_GEAR_LEVER])
+            truth[11] = gear
+            sample_sensors(truth, history, tick, noise[min(tick, noise.shape[0] - 1)], s.sensor_noise_std, s.sensor_bias,
+                           delay_ticks, fault, fault_value, last, values, ok)
+            meas.vehicle_speed_mps = values[0]
+            meas.engine_speed_radps = values[1]
+            meas.input_shaft_speed_radps = values[2]
+            meas.clutch_position_frac = values[3]
+            meas.longitudinal_accel_mps2 = values[4]
+            meas.park_lamp_flag = values[5]
+            meas.reservoir_pressure_pa = values[6]
+            meas.brake_pedal_frac = values[7]
+            meas.accelerator_frac = values[8]
+            meas.hand_valve_released_flag = values[9]
+            meas.gear_lever_index = values[10]
+            meas.gear_engaged_index = values[11]
+            meas.vehicle_speed_ok = ok[0]
+            meas.engine_speed_ok = ok[1]
+            meas.input_shaft_speed_ok = ok[2]
+            meas.clutch_position_ok = ok[3]
+            meas.longitudinal_accel_ok = ok[4]
+            meas.park_lamp_ok = ok[5]
+            meas.reservoir_pressure_ok = ok[6]
+            meas.brake_pedal_ok = ok[7]
+            meas.accelerator_ok = ok[8]
+            meas.hand_valve_released_ok = ok[9]
+            meas.gear_lever_ok = ok[10]
+            meas.gear_engaged_ok = ok[11]
+            n_events = amt_launch.step(tcu, meas, p, s.controller_period_s, t, M_AMT, events, n_events)
+            tick += 1
+
+        # 3. forces at t, from the state at t; the driveline and vehicle give the state at t + dt
+        ratio = gear_ratio(p.gearbox_ratios, len(p.gearbox_ratios), gear) * i0
+        slope, f_coeff = road_at(s, x)
+        f_i = grade_resistance_n(m_kg, slope)
+        f_w = aero_drag_n(p.body_drag_area_m2, v)
+        f_roll_cap = rolling_resistance_capacity_n(m_kg, slope, f_coeff)
+        f_sb_cap = p.service_brake_max_force_n * p_sb
+        f_pb_cap = park_brake_capacity_n(p_sp, p.park_brake_max_force_n, p.park_brake_release_start_pressure_pa,
+                                         p.park_brake_release_full_pressure_pa)
+        hold_cap = f_roll_cap + f_sb_cap + f_pb_cap
+        cap = clutch_capacity_nm(x_c, p.clutch_max_torque_nm, p.clutch_kiss_point_frac, p.clutch_capacity_exponent)
+        t_e = engine_torque_nm(p, w_e, inputs[IN_ACCELERATOR], stalled)
+        was_held = held
+        locked_new = locked
+        v_new = v
+        w_e_new = w_e
+        w_in_new = w_in
+        reaction = 0.0
+        if ratio > 0.0 and locked:
+            # one rigid body: engine + driveline + vehicle
+            m_eq = equivalent_mass_kg(m_kg, p.body_wheel_inertia_total_kgm2, r,
+                                      p.clutch_input_inertia_kgm2 + j_e, ratio, eta)
+            f_t = t_e * ratio * efficiency_factor(t_e, eta) / r
+            v_new, a, held, reaction = stick_slip_step(v, f_t - f_i - f_w, hold_cap, m_eq, dt, V_EPS)
+            t_c = t_e - j_e * (ratio / r) * a
+            if abs(t_c) > cap:
+                locked_new = False
+                n_events = log_event(events, n_events, t, M_CLUTCH, 1, 0, 1)
+            else:
+                w_in_new = v_new * ratio / r
+                w_e_new = w_in_new
+        if not (ratio > 0.0 and locked_new):
+            slip = w_e - w_in
+            t_c = cap * sign(slip)
+            if ratio > 0.0:
+                f_t = t_c * ratio * efficiency_factor(t_c, eta) / r
+                m_eq = equivalent_mass_kg(m_kg, p.body_wheel_inertia_total_kgm2, r, p.clutch_input_inertia_kgm2, ratio, eta)
+            else:
+                f_t = 0.0
+                t_c = 0.0
+                m_eq = equivalent_mass_kg(m_kg, p.body_wheel_inertia_total_kgm2, r, 0.0, 0.0, eta)
+            v_new, a, held, reaction = stick_slip_step(v, f_t - f_i - f_w, hold_cap, m_eq, dt, V_EPS)
+            w_e_new = max(w_e + dt * (t_e - t_c) / j_e, 0.0)
+            if ratio > 0.0:
+                w_in_new = v_new * ratio / r
+                if cap > 0.0 and (w_e_new - w_in_new) * slip <= 0.0 and not stalled:
+                    # slip speed crossed zero: lock if the coupled system needs less than the capacity
+                    m_lock = equivalent_mass_kg(m_kg, p.body_wheel_inertia_total_kgm2, r,
+                                                p.clutch_input_inertia_kgm2 + j_e, ratio, eta)
+                    a_lock = (t_e * ratio * efficiency_factor(t_e, eta) / r - f_i - f_w + reaction) / m_lock
+                    t_req = t_e - j_e * (ratio / r) * a_lock
+                    if abs(t_req) <= cap:
+                        locked_new = True
+                        w_e_new = w_in_new
+                        n_events = log_event(events, n_events, t, M_CLUTCH, 0, 1, 0)
+            else:
+                # neutral: the driven plate follows the engine when the clutch grips, else spins down
+                w_in_new = w_e_new if cap > 0.0 else w_in * math.exp(-dt / 2.0)
+
+        # brakes and rolling resistance share the hold reaction: park brake first, then service, then rolling
+        if held:
+            need = reaction
+            f_pb = min(max(need, -f_pb_cap), f_pb_cap)
+            need -= f_pb
+            f_sb = min(max(need, -f_sb_cap), f_sb_cap)
+            need -= f_sb
+            f_roll = need
+            p_brake = 0.0
+        else:
+            d = sign(reaction)
+            f_pb = d * f_pb_cap
+            f_sb = d * f_sb_cap
+            f_roll = d * f_roll_cap
+            p_brake = (f_pb_cap + f_sb_cap) * abs(v)
+
+        # 4. record the state at t with the forces acting at t
+        if k % rec_every == 0 and n_rec < tr.shape[0]:
+            row = tr[n_rec]
+            row.time_s = t
+            row.position_m = x
+            row.speed_mps = v
+            row.accel_mps2 = a
+            row.slope_rad = slope
+            row.drive_force_n = f_t
+            row.grade_resistance_n = f_i
+            row.aero_drag_n = f_w
+            row.rolling_resistance_force_n = f_roll
+            row.service_brake_force_n = f_sb
+            row.service_brake_capacity_n = f_sb_cap
+            row.park_brake_force_n = f_pb
+            row.park_brake_capacity_n = f_pb_cap
+            row.brake_power_w = p_brake
+            row.vehicle_held_flag = 1.0 if held else 0.0
+            row.engine_speed_radps = w_e
+            row.engine_torque_nm = t_e
+            row.engine_stalled_flag = 1.0 if stalled else 0.0
+            row.clutch_position_frac = x_c
+            row.clutch_command_frac = tcu.clutch_command_frac
+            row.clutch_capacity_nm = cap
+            row.clutch_torque_nm = t_c if ratio > 0.0 or cap > 0.0 else 0.0
+            row.input_shaft_speed_radps = w_in
+            row.clutch_locked_flag = 1.0 if locked else 0.0
+            row.clutch_slip_power_w = slip_power_w(t_c, w_e, w_in) if not locked else 0.0
+            row.gear_index = gear
+            row.park_chamber_pressure_pa = p_sp
+            row.relay_control_pressure_pa = p_ctrl
+            row.reservoir_pressure_pa = p_s
+            row.park_lamp_flag = 1.0 if p_sp < p.park_brake_lamp_pressure_pa else 0.0
+            row.accelerator_frac = inputs[IN_ACCELERATOR]
+            row.brake_pedal_frac = inputs[IN_BRAKE_PEDAL]
+            row.hand_valve_released_flag = inputs[IN_HAND_VALVE]
+            row.amt_mode_index = tcu.mode
+            n_rec += 1
+        if k == n_steps or stop:
+            break
+
+        # 5. advance every state to t + dt
+        if held != was_held:
+            n_events = log_event(events, n_events, t, M_VEHICLE, 0 if was_held else 1, 0 if held else 1, 1 if held else 0)
+        v = v_new
+        x += v * dt
+        w_e = w_e_new
+        w_in = w_in_new
+        locked = locked_new
+        if not stalled and w_e < p.engine_stall_speed_radps:
+            stalled = True
+            locked = False
+            n_events = log_event(events, n_events, t + dt, M_ENGINE, 0, 1, 0)
+        x_c = actuator_step(x_c, tcu.clutch_command_frac, p.clutch_actuator_time_constant_s,
+                            p.clutch_actuator_max_rate_per_s, dt)
+        old_gear = gear
+        gear, gear_target, shift_timer = shift_step(gear, gear_target, shift_timer, tcu.gear_command_index,
+                                                    p.gearbox_shift_time_s, dt)
+        if gear != old_gear:
+            if gear == 0:
+                n_events = log_event(events, n_events, t + dt, M_GEARBOX, 0, 1, 0)
+                locked = False
+            else:
+                n_events = log_event(events, n_events, t + dt, M_GEARBOX, 1, 0, 1)
+                w_in = v * gear_ratio(p.gearbox_ratios, len(p.gearbox_ratios), gear) * i0 / r  # synchroniser
+        p_sb = first_order_step(p_sb, inputs[IN_BRAKE_PEDAL], p.service_brake_time_constant_s, dt)
+        p_ctrl = hand_valve_control_pressure_pa(inputs[IN_HAND_VALVE], p_s)
+        p_sp = spring_chamber_step(p_sp, p_ctrl, p.park_brake_fill_time_constant_s, p.park_brake_exhaust_time_constant_s, dt)
+    return n_rec, n_events
+
+
+# --------------------------------------------------------------------------- layout interface (Python side)
+INPUTS = ("accelerator", "brake_pedal", "gear_lever", "hand_valve")
+DEFAULT_GEAR_INDEX = 2  # "1" (first gear) in the shipped truck's order C, 1, 2, ...
+
+
+def gear_names(model) -> list[str]:
+    return ["N"] + list(model.gearbox.gear_names)
+
+
+def derived(flat: dict) -> dict:
+    """No derived parameters: the truck file gives everything the kernel reads."""
+    return flat
+
+
+def controller_states() -> tuple:
+    """Fresh measurement record and controller state records (the kernel's mutable arguments)."""
+    meas = np.zeros(1, dtype=MEAS_DTYPE).view(np.recarray)
+    return meas[0], amt_launch.initial_state()[0]
+
+
+def run_kernel(p, s, noise, trace, events):
+    meas, tcu = controller_states()
+    return simulate(p, s, noise, meas, tcu, trace, events)
