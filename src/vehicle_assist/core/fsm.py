@@ -66,7 +66,7 @@ class StateMachine:
         return "\n".join(lines)
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def next_mode(table, mode, guard_values):
     """First row of ``table`` leaving ``mode`` whose guard is true: returns (new mode, guard id or -1)."""
     for row in range(table.shape[0]):
@@ -75,7 +75,7 @@ def next_mode(table, mode, guard_values):
     return mode, -1
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def log_event(events, n_events, time_s, machine, from_mode, to_mode, reason):
     """Append a mode change to the event buffer (silently drops beyond its capacity; the count says so)."""
     if n_events < events.shape[0]:

@@ -83,7 +83,7 @@ class Table:
         return bool(np.all(np.diff(np.asarray(self.y, float)) >= 0))
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def interp(xs, ys, n, extrapolation, interpolation, x):
     """Evaluate a packed table (first ``n`` entries of ``xs``/``ys``) at ``x``."""
     if n == 1:
@@ -108,3 +108,4 @@ def interp(xs, ys, n, extrapolation, interpolation, x):
     if interpolation == 1:
         return ys[lo]
     return ys[lo] + (ys[hi] - ys[lo]) * (x - xs[lo]) / (xs[hi] - xs[lo])
+

@@ -58,7 +58,7 @@ def initial_state() -> np.recarray:
     return s
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def step(c, m, p, dt, t, machine_id, events, n_events):
     """One controller period. ``c`` controller state (mutated), ``m`` measurements, ``p`` parameters.
 

@@ -33,7 +33,7 @@ def initial_state() -> np.recarray:
     return np.zeros(1, dtype=STATE_DTYPE).view(np.recarray)
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def step(c, m, p, dt, t, machine_id, events, n_events):
     g = np.zeros(2, dtype=np.bool_)
     g[G_DRIVE] = m.gear_lever_index >= 1.0

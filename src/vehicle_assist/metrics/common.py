@@ -20,10 +20,13 @@ Definitions (SI; ``t`` = ``time_s``):
 """
 from __future__ import annotations
 
+import functools
+
 import difflib
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
+import numba as nb
 import numpy as np
 
 from vehicle_assist.core.trace import Trace
@@ -121,15 +124,17 @@ def filtered_jerk(
 ) -> np.ndarray:
     """Jerk in m/s^3 of the low-pass filtered ``accel_mps2`` (common.md section 10), one value per sample.
 
-    Filter: causal Butterworth (``scipy.signal.butter(order, cutoff_hz, fs=1/dt)`` + ``lfilter``) whose
-    state starts in steady state on the first sample (``lfilter_zi * a[0]``), so a trace that starts at
+    Filter: causal 2nd-order Butterworth (:func:`butter2_lowpass`, equal to ``scipy.signal.butter``) whose
+    state starts in steady state on the first sample (as ``lfilter_zi * a[0]``), so a trace that starts at
     constant acceleration shows no start-up transient. ``dt`` is the median step; the filter assumes
     uniform sampling. If the cut-off is not below the Nyquist frequency the samples cannot carry content
     above it, and the acceleration is used unfiltered. Differentiation: :func:`numpy.gradient` over
     ``time_s``. Where ``vehicle_held_flag == 1`` the jerk is set to 0 (held at rest: v = 0, a = 0).
     """
-    from scipy import signal
-
+    key = ("filtered_jerk", cutoff_hz, order)
+    cache = trace.__dict__.setdefault("_metric_cache", {})
+    if key in cache:
+        return cache[key]
     time_s = _ch(trace, "time_s")
     accel_mps2 = _ch(trace, "accel_mps2")
     if len(time_s) < 2:
@@ -139,14 +144,56 @@ def filtered_jerk(
         raise ValueError("filtered_jerk needs strictly increasing time_s")
     fs_hz = 1.0 / dt_s
     if cutoff_hz < 0.5 * fs_hz:
-        b, a = signal.butter(order, cutoff_hz, btype="low", fs=fs_hz)
-        filtered, _ = signal.lfilter(b, a, accel_mps2, zi=signal.lfilter_zi(b, a) * accel_mps2[0])
+        if order != 2:
+            raise ValueError("only the 2nd-order Butterworth of common.md section 10 is implemented")
+        b, a = butter2_lowpass(cutoff_hz, fs_hz)
+        filtered = _biquad(b, a, accel_mps2)
     else:
         filtered = accel_mps2
     jerk_mps3 = np.gradient(filtered, time_s)
     if "vehicle_held_flag" in trace:
         jerk_mps3 = np.where(_ch(trace, "vehicle_held_flag") >= 0.5, 0.0, jerk_mps3)
+    cache[key] = jerk_mps3
     return jerk_mps3
+
+
+@functools.lru_cache(maxsize=16)
+def butter2_lowpass(cutoff_hz: float, fs_hz: float) -> tuple[np.ndarray, np.ndarray]:
+    """2nd-order Butterworth low-pass, bilinear transform with pre-warping (closed form).
+
+    K = tan(pi*fc/fs), n = 1/(1 + sqrt(2)*K + K^2):
+    b = (K^2*n, 2*K^2*n, K^2*n),  a = (1, 2*(K^2 - 1)*n, (1 - sqrt(2)*K + K^2)*n).
+    Identical to ``scipy.signal.butter(2, fc, fs=fs)`` (checked in the tests); written out because
+    importing scipy.signal costs 0.5 s on every command-line run.
+    """
+    k = np.tan(np.pi * cutoff_hz / fs_hz)
+    norm = 1.0 / (1.0 + np.sqrt(2.0) * k + k * k)
+    b = np.array([k * k * norm, 2.0 * k * k * norm, k * k * norm])
+    a = np.array([1.0, 2.0 * (k * k - 1.0) * norm, (1.0 - np.sqrt(2.0) * k + k * k) * norm])
+    return b, a
+
+
+def _biquad(b: np.ndarray, a: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Filter along the last axis (direct form II transposed), starting in steady state on x[..., 0]."""
+    x2 = np.atleast_2d(np.asarray(x, dtype=np.float64))
+    y = _biquad_rows(b, a, x2)
+    return y.reshape(np.shape(x))
+
+
+@nb.njit(cache=True, nogil=True)
+def _biquad_rows(b, a, x):
+    y = np.empty_like(x)
+    for r in range(x.shape[0]):
+        x0 = x[r, 0]
+        z2 = (b[2] - a[2]) * x0  # steady state for a constant input x0 (DC gain 1)
+        z1 = (b[1] - a[1]) * x0 + z2
+        for i in range(x.shape[1]):
+            xi = x[r, i]
+            yi = b[0] * xi + z1
+            z1 = b[1] * xi - a[1] * yi + z2
+            z2 = b[2] * xi - a[2] * yi
+            y[r, i] = yi
+    return y
 
 
 def jerk_filtered_max_mps3(trace: Trace) -> float:

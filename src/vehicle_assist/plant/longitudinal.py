@@ -28,32 +28,32 @@ G = G_MPS2
 RHO_AIR = RHO_AIR_KGPM3
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def grade_resistance_n(mass_kg, slope_rad):
     """F_i = m*g*sin(alpha): positive uphill (opposes forward motion)."""
     return mass_kg * G * math.sin(slope_rad)
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def rolling_resistance_capacity_n(mass_kg, slope_rad, coeff):
     """Magnitude m*g*f*cos(alpha): sliding force while moving, reaction bound at rest."""
     return mass_kg * G * coeff * math.cos(slope_rad)
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def aero_drag_n(drag_area_m2, speed_mps):
     """F_w = 0.5*rho*C_D*A*v*|v| (common.md 3.1: identical to C_D*A*u_a^2/21.15 with u_a in km/h)."""
     return 0.5 * RHO_AIR * drag_area_m2 * speed_mps * abs(speed_mps)
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def equivalent_mass_kg(mass_kg, wheel_inertia_total_kgm2, wheel_radius_m, line_inertia_kgm2, ratio, efficiency):
     """delta*m: mass plus wheel inertia and driveline inertia reflected to the wheel (common.md 4)."""
     r2 = wheel_radius_m * wheel_radius_m
     return mass_kg + wheel_inertia_total_kgm2 / r2 + line_inertia_kgm2 * ratio * ratio * efficiency / r2
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def stick_slip_step(v, net_force_n, hold_capacity_n, equivalent_mass, dt, v_eps):
     """One step of the Karnopp rule.
 

@@ -18,7 +18,7 @@ FAULT_BIAS = 3
 FAULTS = {"none": FAULT_NONE, "lost": FAULT_LOST, "stuck": FAULT_STUCK, "bias": FAULT_BIAS}
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def sample_sensors(truth, history, tick, noise_row, noise_std, bias, delay_ticks, fault, fault_value, last, out_value, out_ok):
     """Sample every sensor: fills ``out_value``/``out_ok`` and updates the ring buffer and ``last``."""
     depth = history.shape[1]

@@ -150,7 +150,11 @@ def _render(trace: Trace, panels: list[Panel], path: str | Path, title: str) -> 
     from matplotlib.figure import Figure
 
     n = max(len(panels), 1)
-    fig = Figure(figsize=(FIGURE_WIDTH_IN, PANEL_HEIGHT_IN * n + 0.6), dpi=DPI, layout="constrained")
+    height_in = PANEL_HEIGHT_IN * n + 0.6
+    fig = Figure(figsize=(FIGURE_WIDTH_IN, height_in), dpi=DPI)
+    # fixed margins instead of a layout engine: the constrained solver cost 0.3 s per figure
+    fig.subplots_adjust(left=0.08, right=0.92, top=1.0 - 0.55 / height_in, bottom=0.45 / height_in,
+                        hspace=0.42 * 2.2 / PANEL_HEIGHT_IN)
     FigureCanvasAgg(fig)
     axes = list(np.atleast_1d(fig.subplots(n, 1, sharex=True, squeeze=False)[:, 0]))
     fig.suptitle(title, fontsize=11)

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import difflib
+import re
 from typing import Any
 
 from pydantic import BaseModel, ValidationError
@@ -9,6 +10,10 @@ from pydantic import BaseModel, ValidationError
 
 class InputError(ValueError):
     """Bad user input (scenario, vehicle, override). ``str(err)`` is one line meant for the user."""
+
+    def __init__(self, message: str) -> None:
+        # one line even when a key or value from the file holds a line break
+        super().__init__(str(message).replace("\r", "\\r").replace("\n", "\\n"))
 
 
 def did_you_mean(word: str, options) -> str:
@@ -59,7 +64,9 @@ def _range_of(model: type[BaseModel], loc: tuple) -> str:
 
     def collect(annotation):
         for arg in typing.get_args(annotation):
-            metas.extend(getattr(arg, "__metadata__", ()))
+            for meta in getattr(arg, "__metadata__", ()):
+                # Annotated[float, Field(ge=..)] nested in a list or Optional keeps a FieldInfo here
+                metas.extend(getattr(meta, "metadata", None) or [meta])
             collect(arg)
 
     collect(field.annotation)
@@ -80,7 +87,8 @@ def _range_of(model: type[BaseModel], loc: tuple) -> str:
 
 def from_validation(err: ValidationError, model: type[BaseModel], where: str, prefix: str = "") -> InputError:
     """One-line message for the first error (and a count of the others)."""
-    errors = err.errors()
+    # an unknown key first: a misspelt key also makes the intended one "missing", and the did-you-mean is the fix
+    errors = sorted(err.errors(), key=lambda e: e["type"] != "extra_forbidden")
     first = errors[0]
     loc = tuple(first["loc"])
     path = ".".join(str(p) for p in ((prefix,) if prefix else ()) + loc)
@@ -93,15 +101,21 @@ def from_validation(err: ValidationError, model: type[BaseModel], where: str, pr
     elif kind == "missing":
         msg = "required key is missing; add it"
     elif kind == "finite_number":
-        msg = f"= {value!r}: NaN or inf is not allowed; give a finite number"
+        msg = f"= {value!r}: NaN or inf is not allowed; give a finite number{_range_of(model, loc)}"
     elif kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
         msg = f"= {value!r}: {first['msg'].lower()}{_range_of(model, loc)}"
     elif kind == "literal_error":
         msg = f"= {value!r}: {first['msg'].lower()}"
     elif kind == "value_error":
         msg = first["msg"].removeprefix("Value error, ")
+        # "time_s: breakpoints must ..." from a validator of driver.accelerator -> driver.accelerator.time_s: ...
+        head = re.match(r"(\w+)(: | )", msg)
+        holder = _model_at(model, loc)
+        if head and holder is not None and head.group(1) in holder.model_fields:
+            path = f"{path}.{head.group(1)}" if path else head.group(1)
+            msg = msg[head.end():] if head.group(2) == ": " else msg[len(head.group(1)):]
     else:
         msg = f"= {value!r}: {first['msg'].lower()}"
     more = f" (and {len(errors) - 1} more problem{'s' if len(errors) > 2 else ''})" if len(errors) > 1 else ""
-    sep = " " if msg.startswith("=") else ": "
+    sep = "" if msg.startswith(" ") else " " if msg.startswith("=") else ": "
     return InputError(f"{where}: {path}{sep}{msg}{more}")

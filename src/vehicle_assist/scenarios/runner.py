@@ -106,7 +106,10 @@ def pack_records(flats: Sequence[dict]) -> np.recarray:
 
 
 def _noise(sc: LoadedScenario, n_sensors: int) -> np.ndarray:
+    """Seeded standard-normal draws, one row per controller tick (one zero row if no sensor is noisy)."""
     run = sc.model.run
+    if not np.any(sc.flat["sensor_noise_std"]):
+        return np.zeros((1, n_sensors))
     ticks = int(round(run.duration_s / run.controller_period_s)) + 2
     return np.random.default_rng(run.seed).standard_normal((ticks, n_sensors))
 

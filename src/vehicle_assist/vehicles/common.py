@@ -21,34 +21,35 @@ EVENT_CAPACITY = 16
 EVENT_BUFFER = 512
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def driver_inputs(s, t, override_on, override_value, out):
     """Scripted driver: pedal, lever and valve tables over time, unless an event overrode them."""
     out[IN_ACCELERATOR] = interp(s.driver_accelerator_x, s.driver_accelerator_y, s.driver_accelerator_n,
-                                 s.driver_accelerator_extrap, s.driver_accelerator_interp, t)
+                                      s.driver_accelerator_extrap, s.driver_accelerator_interp, t)
     out[IN_BRAKE_PEDAL] = interp(s.driver_brake_pedal_x, s.driver_brake_pedal_y, s.driver_brake_pedal_n,
-                                 s.driver_brake_pedal_extrap, s.driver_brake_pedal_interp, t)
+                                      s.driver_brake_pedal_extrap, s.driver_brake_pedal_interp, t)
     out[IN_GEAR_LEVER] = interp(s.driver_gear_lever_x, s.driver_gear_lever_y, s.driver_gear_lever_n,
-                                s.driver_gear_lever_extrap, s.driver_gear_lever_interp, t)
+                                     s.driver_gear_lever_extrap, s.driver_gear_lever_interp, t)
     out[IN_HAND_VALVE] = interp(s.driver_hand_valve_x, s.driver_hand_valve_y, s.driver_hand_valve_n,
-                                s.driver_hand_valve_extrap, s.driver_hand_valve_interp, t)
+                                     s.driver_hand_valve_extrap, s.driver_hand_valve_interp, t)
     out[IN_STEERING] = interp(s.driver_steering_x, s.driver_steering_y, s.driver_steering_n,
-                              s.driver_steering_extrap, s.driver_steering_interp, t)
+                                   s.driver_steering_extrap, s.driver_steering_interp, t)
     for i in range(out.shape[0]):
         if override_on[i]:
             out[i] = override_value[i]
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def road_at(s, position_m):
     """(slope_rad, rolling_resistance_coeff) at a distance along the road."""
-    slope = interp(s.road_slope_x, s.road_slope_y, s.road_slope_n, s.road_slope_extrap, s.road_slope_interp, position_m)
+    slope = interp(s.road_slope_x, s.road_slope_y, s.road_slope_n, s.road_slope_extrap, s.road_slope_interp,
+                        position_m)
     coeff = interp(s.road_rolling_resistance_x, s.road_rolling_resistance_y, s.road_rolling_resistance_n,
-                   s.road_rolling_resistance_extrap, s.road_rolling_resistance_interp, position_m)
+                        s.road_rolling_resistance_extrap, s.road_rolling_resistance_interp, position_m)
     return slope, coeff
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def due_events(s, fired, t, signals, due):
     """Mark in ``due`` the events that fire now (each fires once)."""
     any_due = False

@@ -98,12 +98,14 @@ M_VEHICLE, M_VCU = range(2)
 M_SCENARIO = len(MACHINES)
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def simulate(p, s, noise, meas, vcu, tr, events):
     """Run one scenario; arguments as in :func:`vehicle_assist.vehicles.truck_amt.simulate`."""
     dt = s.plant_step_s
     n_steps = int(round(s.duration_s / dt))
-    ctrl_every = max(1, int(round(s.controller_period_s / dt)))
+    ctrl_every = max(1, int(round(s.controller_period_s / dt)))  # sensor sampling tick
+    # each controller runs at its own ECU period, a whole number of sampling ticks
+    vcu_every = max(1, int(round(p.vcu_period_s / s.controller_period_s)))
     rec_every = max(1, int(round(s.record_period_s / dt)))
     n_sens = noise.shape[1]
     m_kg = p.body_mass_kg
@@ -205,7 +207,8 @@ def simulate(p, s, noise, meas, vcu, tr, events):
             meas.brake_pedal_ok = ok[5]
             meas.accelerator_ok = ok[6]
             meas.gear_lever_ok = ok[7]
-            n_events = ev_vcu.step(vcu, meas, p, s.controller_period_s, t, M_VCU, events, n_events)
+            if tick % vcu_every == 0:
+                n_events = ev_vcu.step(vcu, meas, p, p.vcu_period_s, t, M_VCU, events, n_events)
             tick += 1
 
         # forces at t from the state at t

@@ -137,6 +137,7 @@ class SpringParkBrake(Strict):
 class AmtLaunch(Strict):
     """Parameters of the AMT's normal start program (functions/amt_launch.py)."""
 
+    period_s: Annotated[float, Field(ge=1e-4, le=0.1)]
     launch_accelerator_frac: Frac
     approach_rate_per_s: Annotated[float, Field(gt=0, le=20)]
     engage_rate_per_s: Annotated[float, Field(gt=0, le=20)]
@@ -179,6 +180,12 @@ class Ehb(Strict):
     pedal_full_pressure_bar: Annotated[float, Field(gt=0, le=300)]
 
 
+class Vcu(Strict):
+    """EV vehicle control unit (functions/ev_vcu.py)."""
+
+    period_s: Annotated[float, Field(ge=1e-4, le=0.1)]
+
+
 class TruckAmt(Strict):
     name: str
     layout: Literal["truck_amt"]
@@ -202,6 +209,7 @@ class EvEhb(Strict):
     motor: TractionMotor
     brakes: HydraulicBrakes
     ehb: Ehb
+    vcu: Vcu
 
 
 LAYOUTS: dict[str, type[Strict]] = {"truck_amt": TruckAmt, "ev_ehb": EvEhb}

@@ -32,6 +32,7 @@ from vehicle_assist.core.fsm import StateMachine, Transition, log_event
 from vehicle_assist.core.tables import interp
 from vehicle_assist.functions import amt_launch
 from vehicle_assist.plant.brakes.pneumatic import (
+    decay,
     first_order_step,
     hand_valve_control_pressure_pa,
     park_brake_capacity_n,
@@ -146,14 +147,16 @@ M_VEHICLE, M_CLUTCH, M_ENGINE, M_GEARBOX, M_AMT = range(5)
 M_SCENARIO = len(MACHINES)  # scenario events are logged under this id
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def simulate(p, s, noise, meas, tcu, tr, events):
     """Run one scenario. ``p`` vehicle record, ``s`` scenario record, ``noise`` (ticks x sensors) standard
     normal draws, ``meas``/``tcu`` measurement and controller-state records, ``tr`` trace rows, ``events``
     event buffer. Returns (rows written, events logged)."""
     dt = s.plant_step_s
     n_steps = int(round(s.duration_s / dt))
-    ctrl_every = max(1, int(round(s.controller_period_s / dt)))
+    ctrl_every = max(1, int(round(s.controller_period_s / dt)))  # sensor sampling tick
+    # each controller runs at its own ECU period, a whole number of sampling ticks
+    amt_launch_every = max(1, int(round(p.amt_launch_period_s / s.controller_period_s)))
     rec_every = max(1, int(round(s.record_period_s / dt)))
     n_sens = len(noise[0]) if noise.shape[0] > 0 else 12
     m_kg = p.body_mass_kg
@@ -162,6 +165,9 @@ def simulate(p, s, noise, meas, tcu, tr, events):
     eta = p.gearbox_efficiency_frac
     j_e = p.engine_inertia_kgm2
     p_s = p.park_brake_reservoir_pressure_pa
+    fill_decay = decay(p.park_brake_fill_time_constant_s, dt)
+    exhaust_decay = decay(p.park_brake_exhaust_time_constant_s, dt)
+    service_decay = decay(p.service_brake_time_constant_s, dt)
 
     # --- driver inputs, event state -----------------------------------------------------------
     inputs = np.zeros(5)
@@ -220,6 +226,10 @@ def simulate(p, s, noise, meas, tcu, tr, events):
     slope = 0.0
     f_i = 0.0
     f_w = 0.0
+    f_roll_cap = 0.0
+    last_slope = np.nan
+    last_coeff = np.nan
+    last_x_c = np.nan
 
     for k in range(n_steps + 1):
         t = k * dt
@@ -286,20 +296,26 @@ def simulate(p, s, noise, meas, tcu, tr, events):
             meas.hand_valve_released_ok = ok[9]
             meas.gear_lever_ok = ok[10]
             meas.gear_engaged_ok = ok[11]
-            n_events = amt_launch.step(tcu, meas, p, s.controller_period_s, t, M_AMT, events, n_events)
+            if tick % amt_launch_every == 0:
+                n_events = amt_launch.step(tcu, meas, p, p.amt_launch_period_s, t, M_AMT, events, n_events)
             tick += 1
 
         # 3. forces at t, from the state at t; the driveline and vehicle give the state at t + dt
         ratio = gear_ratio(p.gearbox_ratios, len(p.gearbox_ratios), gear) * i0
         slope, f_coeff = road_at(s, x)
-        f_i = grade_resistance_n(m_kg, slope)
+        if slope != last_slope or f_coeff != last_coeff:  # trig only when the road changes
+            f_i = grade_resistance_n(m_kg, slope)
+            f_roll_cap = rolling_resistance_capacity_n(m_kg, slope, f_coeff)
+            last_slope = slope
+            last_coeff = f_coeff
         f_w = aero_drag_n(p.body_drag_area_m2, v)
-        f_roll_cap = rolling_resistance_capacity_n(m_kg, slope, f_coeff)
         f_sb_cap = p.service_brake_max_force_n * p_sb
         f_pb_cap = park_brake_capacity_n(p_sp, p.park_brake_max_force_n, p.park_brake_release_start_pressure_pa,
                                          p.park_brake_release_full_pressure_pa)
         hold_cap = f_roll_cap + f_sb_cap + f_pb_cap
-        cap = clutch_capacity_nm(x_c, p.clutch_max_torque_nm, p.clutch_kiss_point_frac, p.clutch_capacity_exponent)
+        if x_c != last_x_c:  # the capacity map only when the clutch moves
+            cap = clutch_capacity_nm(x_c, p.clutch_max_torque_nm, p.clutch_kiss_point_frac, p.clutch_capacity_exponent)
+            last_x_c = x_c
         t_e = engine_torque_nm(p, w_e, inputs[IN_ACCELERATOR], stalled)
         was_held = held
         locked_new = locked
@@ -429,9 +445,9 @@ def simulate(p, s, noise, meas, tcu, tr, events):
             else:
                 n_events = log_event(events, n_events, t + dt, M_GEARBOX, 1, 0, 1)
                 w_in = v * gear_ratio(p.gearbox_ratios, len(p.gearbox_ratios), gear) * i0 / r  # synchroniser
-        p_sb = first_order_step(p_sb, inputs[IN_BRAKE_PEDAL], p.service_brake_time_constant_s, dt)
+        p_sb = first_order_step(p_sb, inputs[IN_BRAKE_PEDAL], service_decay)
         p_ctrl = hand_valve_control_pressure_pa(inputs[IN_HAND_VALVE], p_s)
-        p_sp = spring_chamber_step(p_sp, p_ctrl, p.park_brake_fill_time_constant_s, p.park_brake_exhaust_time_constant_s, dt)
+        p_sp = spring_chamber_step(p_sp, p_ctrl, fill_decay, exhaust_decay)
     return n_rec, n_events
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numba as nb
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def ehb_pressure_step(pressure_pa, command_pa, time_constant_s, build_rate_pa_per_s, release_rate_pa_per_s, max_pressure_pa, dt):
     target = min(max(command_pa, 0.0), max_pressure_pa)
     rate = (target - pressure_pa) / time_constant_s

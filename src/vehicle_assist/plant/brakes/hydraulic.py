@@ -23,6 +23,6 @@ def brake_gain_nm_per_pa(friction_faces: float, pad_friction: float, piston_area
     return friction_faces * pad_friction * piston_area * effective_radius_m * efficiency
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def wheel_brake_torque_nm(pressure_pa, gain_nm_per_pa):
     return gain_nm_per_pa * max(pressure_pa, 0.0)

@@ -25,19 +25,22 @@ import math
 import numba as nb
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def hand_valve_control_pressure_pa(released, reservoir_pressure_pa):
     return reservoir_pressure_pa if released > 0.5 else 0.0
 
 
-@nb.njit(cache=True, nogil=True)
-def spring_chamber_step(chamber_pa, control_pa, fill_tau_s, exhaust_tau_s, dt):
-    """Relay valve delivers the control pressure into the chambers (first order, exact step)."""
-    tau = fill_tau_s if control_pa > chamber_pa else exhaust_tau_s
-    return control_pa + (chamber_pa - control_pa) * math.exp(-dt / tau)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def spring_chamber_step(chamber_pa, control_pa, fill_decay, exhaust_decay):
+    """Relay valve delivers the control pressure into the chambers (first order, exact step).
+
+    ``fill_decay`` = exp(-dt/tau_fill) and ``exhaust_decay`` = exp(-dt/tau_exh), computed once per run
+    by :func:`decay`."""
+    d = fill_decay if control_pa > chamber_pa else exhaust_decay
+    return control_pa + (chamber_pa - control_pa) * d
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def park_brake_capacity_n(chamber_pa, max_force_n, release_start_pa, release_full_pa):
     u = (release_full_pa - chamber_pa) / (release_full_pa - release_start_pa)
     return max_force_n * min(max(u, 0.0), 1.0)
@@ -48,6 +51,13 @@ def lamp_time_s(reservoir_pa: float, lamp_pa: float, fill_tau_s: float) -> float
     return fill_tau_s * math.log(reservoir_pa / (reservoir_pa - lamp_pa))
 
 
-@nb.njit(cache=True, nogil=True)
-def first_order_step(value, target, tau_s, dt):
-    return target + (value - target) * math.exp(-dt / tau_s)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def decay(tau_s, dt):
+    """exp(-dt/tau): the exact one-step factor of a first-order lag."""
+    return math.exp(-dt / tau_s)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def first_order_step(value, target, decay_factor):
+    """Exact step of dx/dt = (target - x)/tau with ``decay_factor`` = exp(-dt/tau)."""
+    return target + (value - target) * decay_factor

@@ -16,7 +16,7 @@ import math
 import numba as nb
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def clutch_capacity_nm(position_frac, max_torque_nm, kiss_point_frac, exponent):
     if position_frac <= kiss_point_frac:
         return 0.0
@@ -24,14 +24,14 @@ def clutch_capacity_nm(position_frac, max_torque_nm, kiss_point_frac, exponent):
     return max_torque_nm * u ** exponent
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def clutch_position_for_capacity(capacity_nm, max_torque_nm, kiss_point_frac, exponent):
     """Inverse of :func:`clutch_capacity_nm` (position at which the capacity is reached)."""
     u = min(max(capacity_nm / max_torque_nm, 0.0), 1.0) ** (1.0 / exponent)
     return kiss_point_frac + u * (1.0 - kiss_point_frac)
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def actuator_step(position, command, time_constant_s, max_rate_per_s, dt):
     """First-order lag toward ``command`` with a rate limit; result clipped to [0, 1]."""
     rate = (command - position) / time_constant_s
@@ -42,11 +42,11 @@ def actuator_step(position, command, time_constant_s, max_rate_per_s, dt):
     return min(max(new, 0.0), 1.0)
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def slip_power_w(torque_nm, engine_speed_radps, input_speed_radps):
     return abs(torque_nm * (engine_speed_radps - input_speed_radps))
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def sign(x):
     return math.copysign(1.0, x) if x != 0.0 else 0.0

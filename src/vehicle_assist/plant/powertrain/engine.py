@@ -17,7 +17,7 @@ import numba as nb
 from vehicle_assist.core.tables import interp
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def friction_torque_nm(speed_radps, offset_nm, slope_nm_per_radps):
     """Motoring (drag) torque, <= 0, zero at standstill."""
     if speed_radps <= 0.0:
@@ -25,13 +25,13 @@ def friction_torque_nm(speed_radps, offset_nm, slope_nm_per_radps):
     return -(offset_nm + slope_nm_per_radps * speed_radps)
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def governed_speed_radps(accelerator_frac, idle_radps, high_idle_radps):
     a = min(max(accelerator_frac, 0.0), 1.0)
     return idle_radps + a * (high_idle_radps - idle_radps)
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def engine_torque_nm(p, speed_radps, accelerator_frac, stalled):
     """Net flywheel torque of the governed engine; friction only when stalled."""
     t_fric = friction_torque_nm(speed_radps, p.engine_friction_offset_nm, p.engine_friction_slope_nm_per_radps)

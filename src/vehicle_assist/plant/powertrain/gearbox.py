@@ -12,7 +12,7 @@ from __future__ import annotations
 import numba as nb
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def gear_ratio(ratios, n_gears, gear):
     """Gearbox ratio of ``gear`` (0 = neutral -> 0)."""
     g = int(gear)
@@ -21,7 +21,7 @@ def gear_ratio(ratios, n_gears, gear):
     return ratios[g - 1]
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def shift_step(engaged, target, timer_s, requested, shift_time_s, dt):
     """AMT shift actuator. Returns (engaged, target, timer_s); ``engaged`` is 0 while shifting."""
     req = int(requested)
@@ -38,7 +38,7 @@ def shift_step(engaged, target, timer_s, requested, shift_time_s, dt):
     return engaged, target, timer_s
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def efficiency_factor(torque_to_wheels, efficiency):
     """eta when the torque drives the wheels, 1/eta when the wheels drive the engine."""
     return efficiency if torque_to_wheels >= 0.0 else 1.0 / efficiency

@@ -11,7 +11,7 @@ import math
 import numba as nb
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def torque_limit_nm(speed_radps, max_torque_nm, max_power_w):
     w = abs(speed_radps)
     if w * max_torque_nm <= max_power_w:
@@ -19,7 +19,7 @@ def torque_limit_nm(speed_radps, max_torque_nm, max_power_w):
     return max_power_w / w
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def motor_torque_step(torque_nm, request_nm, speed_radps, max_torque_nm, max_power_w, time_constant_s, dt):
     """Exact discretisation of the first-order lag toward the limited request."""
     lim = torque_limit_nm(speed_radps, max_torque_nm, max_power_w)
