@@ -150,6 +150,11 @@ def show(
         is_vehicle = name in shipped("vehicles") or (
             Path(name).is_file() and "layout" in _read_toml(Path(name)) or (Path(name).is_file() and "base" in _read_toml(Path(name)) and "run" not in _read_toml(Path(name)))
         )
+        if not is_vehicle and name not in shipped("scenarios") and not Path(name).exists():
+            from vehicle_assist.scenarios.errors import did_you_mean
+
+            known = list(shipped("scenarios")) + list(shipped("vehicles"))
+            _fail(f"{name!r}: no shipped vehicle or scenario of that name{did_you_mean(name, known)} and no such file; see 'vehicle-assist list'")
         if is_vehicle and not set_:
             doc = resolved_vehicle(load_vehicle(name))
         else:

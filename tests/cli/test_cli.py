@@ -115,9 +115,6 @@ def test_bad_vehicle_file_names_the_vehicle_file(tmp_path):
     assert_clean_input_error(cli("show", vehicle, cwd=tmp_path), str(vehicle), "body.mass_kg", "= -5", "allowed:")
 
 
-@pytest.mark.xfail(strict=True, reason="known bug: run_sweep writes OUT/sweep.json and OUT/parts before the grid "
-                                       "values are validated, so a typo in --grid leaves a directory behind that "
-                                       "then refuses the corrected sweep ('holds a different sweep')")
 def test_sweep_bad_grid_value_writes_nothing(tmp_path):
     """Requirement ("nothing is written"): a bad --grid value exits 2 with one clean line and no --out dir."""
     out = tmp_path / "out"

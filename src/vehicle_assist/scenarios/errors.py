@@ -8,6 +8,9 @@ from typing import Any
 from pydantic import BaseModel, ValidationError
 
 
+_TYPE_TAGS = {"float", "int", "str", "bool", "list", "dict", "none"}
+
+
 class InputError(ValueError):
     """Bad user input (scenario, vehicle, override). ``str(err)`` is one line meant for the user."""
 
@@ -90,7 +93,8 @@ def from_validation(err: ValidationError, model: type[BaseModel], where: str, pr
     # an unknown key first: a misspelt key also makes the intended one "missing", and the did-you-mean is the fix
     errors = sorted(err.errors(), key=lambda e: e["type"] != "extra_forbidden")
     first = errors[0]
-    loc = tuple(first["loc"])
+    # drop the type tags pydantic adds inside unions ("value.float", "function-after[...]")
+    loc = tuple(p for p in first["loc"] if not (isinstance(p, str) and (p in _TYPE_TAGS or "[" in p)))
     path = ".".join(str(p) for p in ((prefix,) if prefix else ()) + loc)
     kind = first["type"]
     value = first.get("input")

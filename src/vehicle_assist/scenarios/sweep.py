@@ -2,7 +2,8 @@
 
 Results go to ``OUT/parts/part-NNNNN.parquet`` (one per chunk, written atomically) and are merged into
 ``OUT/sweep.parquet``. A sweep that is interrupted resumes: finished parts are kept and skipped; the
-grid is stored in ``OUT/sweep.json`` and a resume with a different grid is refused.
+grid is stored in ``OUT/sweep.json`` and a resume with a different grid is refused. Every value of
+every axis is validated before anything is written.
 """
 from __future__ import annotations
 
@@ -35,9 +36,12 @@ def parse_grid(grid: list[str]) -> list[tuple[str, list]]:
 
 def run_sweep(base: LoadedScenario, grid: list[str], out: Path, chunk: int = 500, workers: int | None = None, console=None):
     axes = parse_grid(grid)
+    # validate every value of every axis before anything is written (a typo must not leave files behind)
+    for path, values in axes:
+        for v in values:
+            base.with_sets(f"{path}={json.dumps(v) if isinstance(v, str) else v}")
     out = Path(out)
     parts = out / "parts"
-    parts.mkdir(parents=True, exist_ok=True)
     spec = {"scenario": base.name, "sets": list(base.sets), "grid": [[p, v] for p, v in axes], "chunk": chunk}
     spec_path = out / "sweep.json"
     if spec_path.exists():
@@ -46,9 +50,9 @@ def run_sweep(base: LoadedScenario, grid: list[str], out: Path, chunk: int = 500
             raise InputError(f"{out}: holds a different sweep ({old.get('scenario')}, {old.get('grid')}); use another --out or delete it")
     else:
         write_json(spec, spec_path)
+    parts.mkdir(parents=True, exist_ok=True)
     combos = list(itertools.product(*[v for _, v in axes]))
     n_parts = (len(combos) + chunk - 1) // chunk
-    # validate every variant before anything runs (bad values fail fast, nothing written but the spec)
     from rich.progress import Progress
 
     with Progress(console=console, transient=True) as progress:

@@ -323,24 +323,29 @@ def simulate(p, s, noise, meas, tcu, tr, events):
         w_e_new = w_e
         w_in_new = w_in
         reaction = 0.0
+        t_break = 0.0
         if ratio > 0.0 and locked:
             # one rigid body: engine + driveline + vehicle
             m_eq = equivalent_mass_kg(m_kg, p.body_wheel_inertia_total_kgm2, r,
                                       p.clutch_input_inertia_kgm2 + j_e, ratio, eta)
-            f_t = t_e * ratio * efficiency_factor(t_e, eta) / r
-            v_new, a, held, reaction = stick_slip_step(v, f_t - f_i - f_w, hold_cap, m_eq, dt, V_EPS)
-            t_c = t_e - j_e * (ratio / r) * a
+            f_drive = t_e * ratio * efficiency_factor(t_e * v if v != 0.0 else t_e, eta) / r
+            v_new, a, held, reaction = stick_slip_step(v, f_drive - f_i - f_w, hold_cap, m_eq, dt, V_EPS)
+            t_c = t_e - j_e * (ratio / r) * a  # torque the clutch must carry to keep engine and vehicle together
             if abs(t_c) > cap:
                 locked_new = False
+                t_break = t_c
                 n_events = log_event(events, n_events, t, M_CLUTCH, 1, 0, 1)
             else:
+                f_t = t_c * ratio * efficiency_factor(t_c * v if v != 0.0 else t_c, eta) / r
                 w_in_new = v_new * ratio / r
                 w_e_new = w_in_new
         if not (ratio > 0.0 and locked_new):
             slip = w_e - w_in
-            t_c = cap * sign(slip)
+            # at the break-away step the slip is still zero: the clutch carries its capacity in the
+            # direction of the torque that broke the lock
+            t_c = cap * (sign(slip) if slip != 0.0 else sign(t_break))
             if ratio > 0.0:
-                f_t = t_c * ratio * efficiency_factor(t_c, eta) / r
+                f_t = t_c * ratio * efficiency_factor(t_c * v if v != 0.0 else t_c, eta) / r
                 m_eq = equivalent_mass_kg(m_kg, p.body_wheel_inertia_total_kgm2, r, p.clutch_input_inertia_kgm2, ratio, eta)
             else:
                 f_t = 0.0
@@ -350,15 +355,21 @@ def simulate(p, s, noise, meas, tcu, tr, events):
             w_e_new = max(w_e + dt * (t_e - t_c) / j_e, 0.0)
             if ratio > 0.0:
                 w_in_new = v_new * ratio / r
-                if cap > 0.0 and (w_e_new - w_in_new) * slip <= 0.0 and not stalled:
+                if cap > 0.0 and (w_e_new - w_in_new) * slip <= 0.0 and slip != 0.0 and not stalled and not held:
                     # slip speed crossed zero: lock if the coupled system needs less than the capacity
                     m_lock = equivalent_mass_kg(m_kg, p.body_wheel_inertia_total_kgm2, r,
                                                 p.clutch_input_inertia_kgm2 + j_e, ratio, eta)
-                    a_lock = (t_e * ratio * efficiency_factor(t_e, eta) / r - f_i - f_w + reaction) / m_lock
+                    a_lock = (t_e * ratio * efficiency_factor(t_e * v_new, eta) / r - f_i - f_w + reaction) / m_lock
                     t_req = t_e - j_e * (ratio / r) * a_lock
                     if abs(t_req) <= cap:
+                        # perfectly plastic coupling: the common speed conserves angular momentum
+                        # (engine J_e and the vehicle's inertia seen at the input shaft)
+                        j_vehicle = m_eq * (r / ratio) ** 2
+                        w_common = (j_e * w_e_new + j_vehicle * w_in_new) / (j_e + j_vehicle)
+                        w_e_new = w_common
+                        w_in_new = w_common
+                        v_new = w_common * r / ratio
                         locked_new = True
-                        w_e_new = w_in_new
                         n_events = log_event(events, n_events, t, M_CLUTCH, 0, 1, 0)
             else:
                 # neutral: the driven plate follows the engine when the clutch grips, else spins down

@@ -26,10 +26,8 @@ def shift_step(engaged, target, timer_s, requested, shift_time_s, dt):
     """AMT shift actuator. Returns (engaged, target, timer_s); ``engaged`` is 0 while shifting."""
     req = int(requested)
     if req != target:
-        # new request: go to neutral and start the shift (also from neutral)
-        target = req
-        timer_s = shift_time_s if req != 0 else 0.0
-        engaged = 0
+        # new request: go to neutral now; the shift takes shift_time_s from this instant
+        return 0, req, (shift_time_s if req != 0 else 0.0)
     if engaged != target:
         timer_s -= dt
         if timer_s <= 0.0:
