@@ -42,8 +42,10 @@ def table_capacities(flats: list[Flat]) -> dict[str, int]:
     return caps
 
 
-def pack(flats: list[Flat]) -> np.recarray:
-    """Pack one or more flat parameter sets (same keys) into a record array."""
+def pack(flats: list[Flat], capacities: Mapping[str, int] | None = None) -> np.recarray:
+    """Pack one or more flat parameter sets (same keys) into a record array.
+
+    ``capacities`` pads tables and arrays to at least that many entries (one dtype for many batches)."""
     if not flats:
         raise ValueError("nothing to pack")
     keys = list(flats[0])
@@ -51,10 +53,20 @@ def pack(flats: list[Flat]) -> np.recarray:
         if list(f) != keys:
             missing = set(keys) ^ set(f)
             raise ValueError(f"parameter sets differ in their keys: {sorted(missing)}")
-    dtype = record_dtype(flats[0], table_capacities(flats))
+    caps = table_capacities(flats)
+    for name, cap in (capacities or {}).items():
+        caps[name] = max(caps.get(name, 0), cap)
+    dtype = record_dtype(flats[0], caps)
     arr = np.zeros(len(flats), dtype=dtype)
+    first = flats[0]
+    scalars = [k for k, v in first.items() if not isinstance(v, (Table, np.ndarray))]
+    for name in scalars:  # column-wise: one assignment per field for the whole batch
+        arr[name] = [float(f[name]) for f in flats]
+    shared = [k for k in first if k not in scalars and all(f[k] is first[k] for f in flats)]
     for i, flat in enumerate(flats):
         for name, value in flat.items():
+            if name in scalars or (i > 0 and name in shared):
+                continue
             if isinstance(value, Table):
                 n = len(value.x)
                 arr[f"{name}_x"][i, :n] = value.x
@@ -66,9 +78,11 @@ def pack(flats: list[Flat]) -> np.recarray:
                 arr[f"{name}_n"][i] = n
                 arr[f"{name}_extrap"][i] = EXTRAPOLATION[value.extrapolation]
                 arr[f"{name}_interp"][i] = INTERPOLATION[value.interpolation]
-            elif isinstance(value, np.ndarray):
+            else:
                 arr[name][i, :] = np.nan
                 arr[name][i, : len(value)] = value
-            else:
-                arr[name][i] = float(value)
+    for name in shared:  # the same table object in every variant: packed once, copied to all rows
+        for field in ([f"{name}_x", f"{name}_y", f"{name}_n", f"{name}_extrap", f"{name}_interp"]
+                      if isinstance(first[name], Table) else [name]):
+            arr[field][1:] = arr[field][0]
     return arr.view(np.recarray)

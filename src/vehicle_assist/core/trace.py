@@ -51,8 +51,17 @@ class Trace:
             raise ValueError("a trace needs a 'time_s' channel")
         n = len(self.channels["time_s"])
         for name, values in self.channels.items():
-            if len(values) != n:
-                raise ValueError(f"channel {name!r} has {len(values)} samples, time_s has {n}")
+            if np.shape(values)[-1] != n:
+                raise ValueError(f"channel {name!r} has {np.shape(values)[-1]} samples, time_s has {n}")
+
+    @property
+    def batch_size(self) -> int | None:
+        """None for one run; k when the channels are (k, samples) arrays of k runs on one time base
+        (metrics then return one value per run)."""
+        for name, values in self.channels.items():
+            if name != "time_s" and np.ndim(values) == 2:
+                return int(np.shape(values)[0])
+        return None
 
     # -- access -------------------------------------------------------------------------------
     def __getitem__(self, name: str) -> np.ndarray:
@@ -104,7 +113,9 @@ class Trace:
         for name, values in self.channels.items():
             md = {"unit": unit_of(name), "description": self.descriptions.get(name, "")}
             fields.append(pa.field(name, pa.float64(), metadata=md))
-            arrays.append(pa.array(np.asarray(values, dtype=np.float64)))
+            data = np.ascontiguousarray(values, dtype=np.float64)
+            # from_buffers, not pa.array: pa.array imports pandas (0.3 s) to check the input type
+            arrays.append(pa.Array.from_buffers(pa.float64(), len(data), [None, pa.py_buffer(data)]))
         schema_md = {k: str(v) for k, v in self.meta.items()}
         schema_md["events"] = json.dumps([e.as_dict() for e in self.events])
         schema = pa.schema(fields, metadata=schema_md)
@@ -118,6 +129,10 @@ class Trace:
         df.attrs["units"] = self.units
         df.attrs["meta"] = dict(self.meta)
         return df
+
+    def row(self, i: int) -> "Trace":
+        """Run ``i`` of a batch trace as a trace of its own (views, no copies)."""
+        return Trace({n: (v[i] if np.ndim(v) == 2 else v) for n, v in self.channels.items()}, self.descriptions, self.meta)
 
     def select(self, names: list[str]) -> "Trace":
         keep = ["time_s"] + [n for n in names if n != "time_s"]

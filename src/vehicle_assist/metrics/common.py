@@ -66,46 +66,51 @@ def _ch(trace: Trace, name: str) -> np.ndarray:
     return np.asarray(trace[name], dtype=np.float64)
 
 
+def _out(value):
+    """A float for one run, an array (one value per run) for a batch trace."""
+    return float(value) if np.ndim(value) == 0 else np.asarray(value, dtype=np.float64)
+
+
 def _integral(trace: Trace, power_name: str) -> float:
-    return float(np.trapezoid(_ch(trace, power_name), _ch(trace, "time_s")))
+    return _out(np.trapezoid(_ch(trace, power_name), _ch(trace, "time_s"), axis=-1))
 
 
 # -- rollback, speed -------------------------------------------------------------------------------
 def rollback_distance_m(trace: Trace) -> float:
     """Largest travel backwards from the start position: ``max(0, x[0] - min x)``."""
     position_m = _ch(trace, "position_m")
-    return float(max(0.0, position_m[0] - np.min(position_m)))
+    return _out(np.maximum(0.0, position_m[..., 0] - np.min(position_m, axis=-1)))
 
 
 def rollback_speed_mps(trace: Trace) -> float:
     """Largest backward speed: ``max(0, -min v)``."""
-    return float(max(0.0, -np.min(_ch(trace, "speed_mps"))))
+    return _out(np.maximum(0.0, -np.min(_ch(trace, "speed_mps"), axis=-1)))
 
 
 def peak_speed_mps(trace: Trace) -> float:
     """Largest forward speed reached."""
-    return float(np.max(_ch(trace, "speed_mps")))
+    return _out(np.max(_ch(trace, "speed_mps"), axis=-1))
 
 
 def final_speed_mps(trace: Trace) -> float:
     """Speed at the last sample."""
-    return float(_ch(trace, "speed_mps")[-1])
+    return _out(_ch(trace, "speed_mps")[..., -1])
 
 
 # -- engine, clutch, brakes ------------------------------------------------------------------------
 def engine_speed_min_radps(trace: Trace) -> float:
     """Lowest engine speed (a dip toward stall shows here)."""
-    return float(np.min(_ch(trace, "engine_speed_radps")))
+    return _out(np.min(_ch(trace, "engine_speed_radps"), axis=-1))
 
 
 def engine_speed_peak_radps(trace: Trace) -> float:
     """Highest engine speed (flare during clutch slip shows here)."""
-    return float(np.max(_ch(trace, "engine_speed_radps")))
+    return _out(np.max(_ch(trace, "engine_speed_radps"), axis=-1))
 
 
 def engine_stalled_flag(trace: Trace) -> float:
     """1.0 if the engine stalled at any sample, else 0.0."""
-    return float(np.max(_ch(trace, "engine_stalled_flag")) >= 0.5)
+    return _out((np.max(_ch(trace, "engine_stalled_flag"), axis=-1) >= 0.5).astype(float))
 
 
 def clutch_slip_energy_j(trace: Trace) -> float:
@@ -150,7 +155,7 @@ def filtered_jerk(
         filtered = _biquad(b, a, accel_mps2)
     else:
         filtered = accel_mps2
-    jerk_mps3 = np.gradient(filtered, time_s)
+    jerk_mps3 = np.gradient(filtered, time_s, axis=-1)
     if "vehicle_held_flag" in trace:
         jerk_mps3 = np.where(_ch(trace, "vehicle_held_flag") >= 0.5, 0.0, jerk_mps3)
     cache[key] = jerk_mps3
@@ -198,17 +203,17 @@ def _biquad_rows(b, a, x):
 
 def jerk_filtered_max_mps3(trace: Trace) -> float:
     """Largest (most positive) filtered jerk."""
-    return float(np.max(filtered_jerk(trace)))
+    return _out(np.max(filtered_jerk(trace), axis=-1))
 
 
 def jerk_filtered_min_mps3(trace: Trace) -> float:
     """Smallest (most negative) filtered jerk."""
-    return float(np.min(filtered_jerk(trace)))
+    return _out(np.min(filtered_jerk(trace), axis=-1))
 
 
 def jerk_filtered_peak_mps3(trace: Trace) -> float:
     """Largest magnitude of the filtered jerk."""
-    return float(np.max(np.abs(filtered_jerk(trace))))
+    return _out(np.max(np.abs(filtered_jerk(trace)), axis=-1))
 
 
 # -- launch ----------------------------------------------------------------------------------------
@@ -237,6 +242,12 @@ def launch_time_s(trace: Trace, speed_threshold_mps: float = LAUNCH_SPEED_MPS) -
     if the brake is never applied, the first sample with ``accelerator_frac > 0.01``; if neither,
     ``time_s[0]``. A brake that is applied and never released gives NaN. Sample times, no interpolation.
     """
+    if trace.batch_size is not None:
+        return np.array([_launch_time_one(trace.row(i), speed_threshold_mps) for i in range(trace.batch_size)])
+    return _launch_time_one(trace, speed_threshold_mps)
+
+
+def _launch_time_one(trace: Trace, speed_threshold_mps: float) -> float:
     start_s = _launch_start_s(trace)
     if np.isnan(start_s):
         return float("nan")
@@ -261,8 +272,9 @@ class Metric:
         """True if every required channel is in ``trace``."""
         return all(name in trace for name in self.requires)
 
-    def __call__(self, trace: Trace) -> float:
-        return float(self.function(trace))
+    def __call__(self, trace: Trace):
+        """A float; for a batch trace (channels of shape (runs, samples)) one value per run."""
+        return _out(self.function(trace))
 
 
 METRICS: dict[str, Metric] = {}

@@ -97,8 +97,12 @@ class Vehicle:
         return self.model.layout
 
     def flat(self) -> dict:
-        flat = flatten_vehicle(self.model)
-        return layouts.get(self.layout).derived(flat)
+        """SI record of the vehicle (computed once per Vehicle, then shared; do not mutate it)."""
+        cached = self.__dict__.get("_flat")
+        if cached is None:
+            cached = layouts.get(self.layout).derived(flatten_vehicle(self.model))
+            object.__setattr__(self, "_flat", cached)
+        return cached
 
 
 def _vehicle_raw(name_or_path: str | Path, seen: tuple = ()) -> tuple[dict, dict[str, str], Path]:
@@ -274,6 +278,13 @@ class LoadedScenario:
             model = model.model_copy(update={section: new_section})
             sources[f"{section}.{key}"] = f"override: {assignment.strip()}"
         vehicle = Vehicle(model, sources, self.vehicle.path, self.vehicle.raw)
+        # incremental SI record: the base record with only the touched subsystems flattened again
+        from vehicle_assist.vehicles.schema import flatten_section
+
+        flat = dict(self.vehicle.flat())
+        for section in {a.split("=", 1)[0].strip().split(".")[1] for a in assignments}:
+            flat.update(flatten_section(section, getattr(model, section)))
+        object.__setattr__(vehicle, "_flat", layouts.get(vehicle.layout).derived(flat))
         out = LoadedScenario(self.model, vehicle, self.path, raw, self.sets + tuple(assignments))
         # the scenario record reads the vehicle's rolling resistance (road default) and gear names
         touched = {a.split("=", 1)[0].strip().rsplit(".", 1)[1] for a in assignments}

@@ -26,6 +26,7 @@ from vehicle_assist.vehicles import layouts
 from vehicle_assist.vehicles.common import EVENT_BUFFER
 
 TABLE_CAPACITY_STEP = 32  # table and array fields are padded to multiples of this: one dtype, one compile
+BATCH_CHUNK = 16  # variants per metrics evaluation in a batch (memory: 64 x samples x channels x 8 B)
 
 
 @dataclass
@@ -80,29 +81,8 @@ def _capacities(flats: Sequence[dict]) -> dict[str, int]:
 
 
 def pack_records(flats: Sequence[dict]) -> np.recarray:
-    from vehicle_assist.core.records import record_dtype
-
-    caps = _capacities(flats)
-    # pad every table/array to its capacity by packing through a dtype built with those capacities
-    dtype = record_dtype(flats[0], caps)
-    arr = pack(list(flats))
-    if arr.dtype == dtype:
-        return arr
-    out = np.zeros(len(flats), dtype=dtype)
-    for name in dtype.names:
-        src = arr[name]
-        if src.ndim == 2:
-            out[name][:, : src.shape[1]] = src
-            if src.shape[1] < out[name].shape[1]:
-                if name.endswith("_x"):
-                    out[name][:, src.shape[1]:] = src[:, -1:] + np.arange(1, out[name].shape[1] - src.shape[1] + 1)
-                elif name.endswith("_y"):
-                    out[name][:, src.shape[1]:] = src[:, -1:]
-                else:
-                    out[name][:, src.shape[1]:] = np.nan
-        else:
-            out[name] = src
-    return out.view(np.recarray)
+    """Pack flat records with table capacities rounded up to TABLE_CAPACITY_STEP (stable dtype)."""
+    return pack(list(flats), _capacities(flats))
 
 
 def _noise(sc: LoadedScenario, n_sensors: int) -> np.ndarray:
@@ -211,23 +191,36 @@ def simulate_batch(
     kept: list[dict] = [{} for _ in range(n)]
     oks: list[bool] = [True] * n
     workers = workers or min(os.cpu_count() or 1, n)
-    machines = scenario_machines(scenarios[0])
 
     def work(indices: list[int]) -> None:
-        cap = max(_n_records(scenarios[i]) for i in indices)
-        rows = np.zeros(cap, dtype=lay.TRACE_DTYPE).view(np.recarray)
-        events = np.zeros((EVENT_BUFFER, EVENT_FIELDS))
-        for i in indices:
-            sc = scenarios[i]
-            n_rec, n_ev = lay.run_kernel(p_all[i], s_all[i], _noise(sc, len(lay.SENSORS)), rows, events)
-            channels = {name: rows[name][:n_rec] for name in lay.CHANNELS}
-            trace = Trace(channels, {}, {}, decode_events(events, n_ev, machines))
-            m = compute_metrics(trace, names)
-            metrics[i] = m
-            oks[i] = all(c.ok for c in evaluate_checks(sc, m))
-            kept[i] = {c: np.array(rows[c][:n_rec:keep_every]) for c in (["time_s"] + keep if keep else [])}
+        # kernels fill a (chunk, samples) buffer; metrics then run once per chunk on (chunk, samples)
+        # arrays, so the Python cost per variant (which holds the GIL) stays small
+        for lo in range(0, len(indices), BATCH_CHUNK):
+            part = indices[lo:lo + BATCH_CHUNK]
+            n_recs = [_n_records(scenarios[i]) for i in part]
+            rows = np.zeros((len(part), max(n_recs)), dtype=lay.TRACE_DTYPE)
+            events = np.zeros((EVENT_BUFFER, EVENT_FIELDS))
+            written = []
+            for j, i in enumerate(part):
+                trace_rows = rows[j].view(np.recarray)
+                n_rec, _ = lay.run_kernel(p_all[i], s_all[i], _noise(scenarios[i], len(lay.SENSORS)), trace_rows, events)
+                written.append(n_rec)
+            if len(set(written)) == 1:
+                n_rec = written[0]
+                channels = {name: rows[name][:, :n_rec] for name in lay.CHANNELS}
+                channels["time_s"] = rows["time_s"][0, :n_rec]
+                chunk_metrics = compute_metrics(Trace(channels), names)
+                per_variant = [{k: float(v[j]) for k, v in chunk_metrics.items()} for j in range(len(part))]
+            else:  # runs of different length (e.g. a stop event): one trace each
+                per_variant = [compute_metrics(Trace({name: rows[name][j, :written[j]] for name in lay.CHANNELS}), names)
+                               for j in range(len(part))]
+            for j, i in enumerate(part):
+                metrics[i] = per_variant[j]
+                oks[i] = all(c.ok for c in evaluate_checks(scenarios[i], per_variant[j]))
+                if keep:
+                    kept[i] = {c: np.array(rows[c][j, :written[j]:keep_every]) for c in ["time_s"] + keep}
             if progress is not None:
-                progress(1)
+                progress(len(part))
 
     chunks = [list(range(w, n, workers)) for w in range(workers)]
     if workers == 1:

@@ -219,27 +219,33 @@ NON_NUMERIC = {"gear_names"}
 
 def flatten_vehicle(model: Strict) -> dict[str, float | Table | np.ndarray]:
     """SI flat record ``section_key`` -> value (tables and arrays kept as such)."""
+    flat: dict[str, float | Table | np.ndarray] = {}
+    for section_name, section in model:
+        if isinstance(section, BaseModel):
+            flat.update(flatten_section(section_name, section))
+    return flat
+
+
+def flatten_section(section_name: str, section: Strict) -> dict[str, float | Table | np.ndarray]:
+    """SI record entries of one subsystem."""
     from vehicle_assist.units import to_si
 
     flat: dict[str, float | Table | np.ndarray] = {}
-    for section_name, section in model:
-        if not isinstance(section, BaseModel):
+    for key, value in section:
+        if key in NON_NUMERIC:
             continue
-        for key, value in section:
-            if key in NON_NUMERIC:
-                continue
-            if isinstance(value, BaseModel):
-                xk, yk = TABLE_KEYS[key]
-                xs, ys = getattr(value, xk), getattr(value, yk)
-                xn, _ = to_si(xk, 0.0)
-                yn, _ = to_si(yk, 0.0)
-                xf = to_si(xk, 1.0)[1]
-                yf = to_si(yk, 1.0)[1]
-                extrap = getattr(value, "extrapolation", "clamp")
-                flat[f"{section_name}_{key}"] = Table(xn, yn, tuple(v * xf for v in xs), tuple(v * yf for v in ys), extrap)
-            elif isinstance(value, list):
-                flat[f"{section_name}_{key}"] = np.asarray(value, dtype=float)
-            else:
-                name, si = to_si(key, float(value))
-                flat[f"{section_name}_{name}"] = si
+        if isinstance(value, BaseModel):
+            xk, yk = TABLE_KEYS[key]
+            xs, ys = getattr(value, xk), getattr(value, yk)
+            xn, _ = to_si(xk, 0.0)
+            yn, _ = to_si(yk, 0.0)
+            xf = to_si(xk, 1.0)[1]
+            yf = to_si(yk, 1.0)[1]
+            extrap = getattr(value, "extrapolation", "clamp")
+            flat[f"{section_name}_{key}"] = Table(xn, yn, tuple(v * xf for v in xs), tuple(v * yf for v in ys), extrap)
+        elif isinstance(value, list):
+            flat[f"{section_name}_{key}"] = np.asarray(value, dtype=float)
+        else:
+            name, si = to_si(key, float(value))
+            flat[f"{section_name}_{name}"] = si
     return flat
