@@ -108,16 +108,28 @@ class Vehicle:
 def _vehicle_raw(name_or_path: str | Path, seen: tuple = ()) -> tuple[dict, dict[str, str], Path]:
     """The merged raw vehicle dict (base chain applied), its sources and its path; a fresh copy."""
     path = _resolve(name_or_path, "vehicles")
-    try:
-        mtime = path.stat().st_mtime_ns
-    except OSError:
-        mtime = -1
-    raw, sources, p = _vehicle_raw_cached(str(path), mtime, seen)
+    raw, sources, p = _vehicle_raw_cached(str(path), _chain_stamp(path), seen)
     return copy.deepcopy(raw), dict(sources), p
 
 
+def _chain_stamp(path: Path) -> tuple:
+    """Modification times of a vehicle file and its base chain: the cache key of the merged result."""
+    stamp = []
+    seen: set[str] = set()
+    current: Path | None = path
+    while current is not None and str(current) not in seen:
+        seen.add(str(current))
+        try:
+            stamp.append((str(current), current.stat().st_mtime_ns))
+            base = _read_toml(current).get("base")
+            current = _resolve(base, "vehicles") if isinstance(base, str) else None
+        except (OSError, InputError):
+            break  # the real load reports the problem
+    return tuple(stamp)
+
+
 @functools.lru_cache(maxsize=64)
-def _vehicle_raw_cached(path_text: str, mtime: int, seen: tuple) -> tuple[dict, dict[str, str], Path]:
+def _vehicle_raw_cached(path_text: str, stamp: tuple, seen: tuple) -> tuple[dict, dict[str, str], Path]:
     path = Path(path_text)
     raw = _read_toml(path)
     base = raw.pop("base", None)
