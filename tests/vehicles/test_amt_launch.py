@@ -17,6 +17,9 @@ SCENARIO = "truck_11deg_late_release"
 FLAT = ["road.slope_deg=0", 'driver.hand_valve={time_s=[0.0], released=[1]}',
         'driver.brake_pedal={time_s=[0.0, 1.0, 1.2], frac=[0.6, 0.6, 0.0]}']
 
+HSA_ON = ["vehicle.hill_start_assist.enabled_flag=1", 'driver.hand_valve={time_s=[0.0, 2.0], released=[0, 1]}',
+          "run.duration_s=8"]
+
 CASES = {
     # lever moved to crawler while stopped with the clutch open, then a normal flat launch to CLOSED
     "gear_change_then_launch": FLAT + [
@@ -32,6 +35,11 @@ CASES = {
         'driver.accelerator={time_s=[0.0, 1.0, 1.5], frac=[0.0, 0.0, 0.27]}', "run.duration_s=7",
         'events=[{at_s=5.0, action="set_input", input="brake_pedal", value=1.0}, '
         '{at_s=5.0, action="set_input", input="accelerator", value=0.0}]'],
+    # hill-start assist on: the start program begins a launch on the accelerator, the assist takes the
+    # clutch when the service brake is released on the applied park brake, and hands it back closed
+    "assist_takes_over_in_approach": HSA_ON + ['driver.accelerator={time_s=[0.0, 0.9, 1.4], frac=[0.0, 0.0, 0.27]}'],
+    # the same with the accelerator pressed long before the brake release: the start program is in ENGAGE
+    "assist_takes_over_in_engage": HSA_ON + ['driver.accelerator={time_s=[0.0, 0.2, 0.7], frac=[0.0, 0.0, 0.27]}'],
 }
 
 EXPECTED = {
@@ -44,6 +52,10 @@ EXPECTED = {
     "engine_pulled_down": [("OPEN", "APPROACH", "launch_requested"), ("APPROACH", "ENGAGE", "kiss_point_reached"),
                            ("ENGAGE", "LOCKUP", "slip_small"), ("LOCKUP", "CLOSED", "clutch_closed"),
                            ("CLOSED", "OPEN", "engine_pulled_down")],
+    "assist_takes_over_in_approach": [("OPEN", "APPROACH", "launch_requested"), ("APPROACH", "OPEN", "assist_took_over"),
+                                      ("OPEN", "CLOSED", "assist_handed_over")],
+    "assist_takes_over_in_engage": [("OPEN", "APPROACH", "launch_requested"), ("APPROACH", "ENGAGE", "kiss_point_reached"),
+                                    ("ENGAGE", "OPEN", "assist_took_over"), ("OPEN", "CLOSED", "assist_handed_over")],
 }
 
 
@@ -81,7 +93,7 @@ def test_event_chain_matches_mode_trace(results, name) -> None:
 
 
 def test_every_row_fires(results) -> None:
-    """Union over the scenarios covers all 9 rows of MACHINE (no row is dead)."""
+    """Union over the scenarios covers every row of MACHINE (no row is dead)."""
     rows = {(t.source, t.target, t.guard) for t in MACHINE.transitions}
     seen = set()
     for r in results.values():

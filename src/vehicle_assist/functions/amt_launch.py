@@ -14,6 +14,10 @@ Modes and transitions (first matching row wins; every change is logged with its 
     ENGAGE    -> OPEN      launch_abandoned
     LOCKUP    -> CLOSED    clutch_closed           clutch command reached 1
     CLOSED    -> OPEN      engine_pulled_down      engine speed below the anti-stall speed (stopping)
+    APPROACH, ENGAGE -> OPEN  assist_took_over     set by the vehicle composition (never by this step) when
+                                                   the hill-start assist takes the clutch
+    OPEN      -> CLOSED    assist_handed_over      set by the vehicle composition when the hill-start assist
+                                                   finishes with the clutch closed (never by this step)
 
 Clutch command rates: APPROACH +v_A; ENGAGE +v_engage (fixed), or -v_back while the engine is below
 the anti-stall speed; LOCKUP +v_C; OPEN/SHIFTING: clutch open (command 0).
@@ -38,15 +42,21 @@ MACHINE = StateMachine(
         Transition("ENGAGE", "OPEN", "launch_abandoned"),
         Transition("LOCKUP", "CLOSED", "clutch_closed"),
         Transition("CLOSED", "OPEN", "engine_pulled_down"),
+        # set by the vehicle composition (never by this step): an assist takes the clutch, and hands it back
+        Transition("APPROACH", "OPEN", "assist_took_over"),
+        Transition("ENGAGE", "OPEN", "assist_took_over"),
+        Transition("OPEN", "CLOSED", "assist_handed_over"),
     ),
     doc=__doc__ or "",
 )
 TABLE = MACHINE.table()
 OPEN, SHIFTING, APPROACH, ENGAGE, LOCKUP, CLOSED = range(6)
-G_GEAR_CHANGE, G_GEAR_ENGAGED, G_LAUNCH, G_KISS, G_ABANDON, G_SLIP_SMALL, G_CLOSED, G_PULLED_DOWN = range(8)
+(G_GEAR_CHANGE, G_GEAR_ENGAGED, G_LAUNCH, G_KISS, G_ABANDON, G_SLIP_SMALL, G_CLOSED, G_PULLED_DOWN, G_TOOK_OVER,
+ G_HANDED_OVER) = range(10)
 assert MACHINE.guards == (
     "gear_change_requested", "gear_engaged", "launch_requested", "kiss_point_reached",
-    "launch_abandoned", "slip_small", "clutch_closed", "engine_pulled_down",
+    "launch_abandoned", "slip_small", "clutch_closed", "engine_pulled_down", "assist_took_over",
+    "assist_handed_over",
 )
 
 STATE_DTYPE = np.dtype([("mode", "f8"), ("clutch_command_frac", "f8"), ("gear_command_index", "f8")])
@@ -65,7 +75,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     Returns the updated event count.
     """
     slip = abs(m.engine_speed_radps - m.input_shaft_speed_radps)
-    g = np.zeros(8, dtype=np.bool_)
+    g = np.zeros(10, dtype=np.bool_)  # g[G_TOOK_OVER], g[G_HANDED_OVER] stay False here: see the table
     g[G_GEAR_CHANGE] = m.gear_lever_index != m.gear_engaged_index or m.gear_lever_index != c.gear_command_index
     g[G_GEAR_ENGAGED] = m.gear_engaged_index == c.gear_command_index
     g[G_LAUNCH] = m.gear_engaged_index > 0 and m.accelerator_frac >= p.amt_launch_launch_accelerator_frac

@@ -67,8 +67,8 @@ def _ch(trace: Trace, name: str) -> np.ndarray:
 
 
 def _out(value):
-    """A float for one run, an array (one value per run) for a batch trace."""
-    return float(value) if np.ndim(value) == 0 else np.asarray(value, dtype=np.float64)
+    """A float for one run, an array (one value per run) for a batch trace (-0.0 shown as 0.0)."""
+    return float(value) + 0.0 if np.ndim(value) == 0 else np.asarray(value, dtype=np.float64) + 0.0
 
 
 def _integral(trace: Trace, power_name: str) -> float:

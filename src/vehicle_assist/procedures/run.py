@@ -10,7 +10,7 @@ from rich.table import Table as RichTable
 from vehicle_assist.io.results import write_json, write_trace_parquet
 from vehicle_assist.procedures.reproduce import REPRODUCTIONS
 from vehicle_assist.report.html import write_reproduce_page
-from vehicle_assist.report.plots import force_history_png, overview_png
+from vehicle_assist.report.plots import FIGURES
 from vehicle_assist.scenarios.loader import load_scenario
 from vehicle_assist.scenarios.runner import simulate
 from vehicle_assist.units import unit_of
@@ -32,11 +32,11 @@ def run_reproductions(out: Path, console: Console | None = None) -> list[dict]:
             sc = load_scenario(name)
             result = simulate(sc)
             write_trace_parquet(result.trace, out / "traces" / f"{name}.parquet")
-            fig = overview_png(result.trace, figures_dir / f"{name}.png", f"{rep.paper}: {name}")
-            figures.append((f"{name}: overview", fig))
-            if "park_brake_force_n" in result.trace or "service_brake_force_n" in result.trace:
-                fig2 = force_history_png(result.trace, figures_dir / f"{name}_forces.png", f"{rep.paper}: {name} forces")
-                figures.append((f"{name}: force history", fig2))
+            if rep.figure_scenarios is None or name in rep.figure_scenarios:
+                for kind in rep.figures:
+                    path = figures_dir / f"{name}_{kind}.png"
+                    figures.append((f"paper {rep.paper}, {name}: {kind.replace('_', ' ')}",
+                                    FIGURES[kind](result.trace, path, f"paper {rep.paper}: {name}")))
             for c in result.checks:
                 entries.append({
                     "paper": rep.paper,

@@ -21,7 +21,7 @@ from vehicle_assist.core.trace import Trace
 from vehicle_assist.io.results import atomic_write_bytes
 from vehicle_assist.units import BAR_TO_PA, KPH_TO_MPS, RPM_TO_RADPS
 
-__all__ = ["overview_png", "force_history_png", "PANELS"]
+__all__ = ["overview_png", "force_history_png", "hill_start_png", "FIGURES", "PANELS"]
 
 DPI = 110
 PANEL_HEIGHT_IN = 2.2
@@ -194,3 +194,36 @@ def force_history_png(trace: Trace, path: str | Path, title: str) -> Path:
     """Write a PNG of every longitudinal force (kN) incl. brake capacities (dotted); return its path."""
     panels = [FORCE_PANEL] if FORCE_PANEL.present(trace) else []
     return _render(trace, panels, path, title)
+
+
+# Paper 000 Fig. 7 (engine speed, clutch position, park pressure, vehicle speed over time) and Fig. 4
+# (drive force, grade resistance, park force): the figures of the truck hill start.
+HILL_START_PANELS = (
+    Panel("Engine speed (paper 000 Fig. 7)", "speed [rpm]",
+          (Line("engine_speed_radps", "engine", 1.0 / RPM_TO_RADPS),
+           Line("input_shaft_speed_radps", "clutch driven plate", 1.0 / RPM_TO_RADPS, "--"))),
+    Panel("Clutch position", "position [0..1]",
+          (Line("clutch_position_frac", "clutch position"), Line("clutch_command_frac", "command", 1.0, "--"),
+           Line("valve_32_energized_flag", "3/2 valve energised", 1.0, ":")),
+          ylim=(-0.05, 1.05)),
+    Panel("Park-brake chamber pressure", "pressure [bar]",
+          (Line("park_chamber_pressure_pa", "spring chamber", 1.0 / BAR_TO_PA),
+           Line("relay_control_pressure_pa", "relay control line", 1.0 / BAR_TO_PA, "--"))),
+    Panel("Vehicle speed", "speed [km/h]", (Line("speed_mps", "speed", 1.0 / KPH_TO_MPS),),
+          right_ylabel="position [m]", right_lines=(Line("position_m", "position", 1.0, "--"),)),
+)
+PARK_FORCE_PANEL = Panel(
+    "Force history (paper 000 Fig. 4)", "force [kN]",
+    (Line("drive_force_n", "drive force F_t", _KN), Line("grade_resistance_n", "grade resistance F_i", _KN),
+     Line("park_brake_force_n", "park-brake force F_g", _KN),
+     Line("park_brake_capacity_n", "park-brake capacity", _KN, ":")),
+)
+
+
+def hill_start_png(trace: Trace, path: str | Path, title: str) -> Path:
+    """Paper 000 style: engine speed, clutch position, park pressure, vehicle speed, and the force history."""
+    panels = [p for p in HILL_START_PANELS + (PARK_FORCE_PANEL,) if p.present(trace)]
+    return _render(trace, panels, path, title)
+
+
+FIGURES = {"overview": overview_png, "forces": force_history_png, "hill_start": hill_start_png}

@@ -449,6 +449,15 @@ def build_scenario_record(sc: LoadedScenario, where: str) -> dict:
                     raise InputError(f"{where}: events.{i}.value = {e.value!r}: give a number") from None
                 if not math.isfinite(ev["value"][i]):
                     raise InputError(f"{where}: events.{i}.value: NaN or inf is not allowed")
+        elif e.action == "actuator_fault":
+            actuators = getattr(lay, "ACTUATORS", ())
+            if e.actuator not in actuators:
+                raise InputError(f"{where}: events.{i}.actuator = {e.actuator!r}: unknown{did_you_mean(e.actuator, actuators)}; "
+                                 f"actuators of {sc.layout}: {', '.join(actuators) or 'none'}")
+            from vehicle_assist.plant.brakes.pneumatic import VALVE_FAULTS
+
+            ev["target"][i] = actuators.index(e.actuator)
+            ev["value"][i] = VALVE_FAULTS[e.fault]
         elif e.action == "sensor_fault":
             if e.sensor not in names:
                 raise InputError(f"{where}: events.{i}.sensor = {e.sensor!r}: unknown sensor{did_you_mean(e.sensor, names)}; sensors: {', '.join(names)}")

@@ -103,7 +103,8 @@ def scenario_machines(sc: LoadedScenario) -> list[StateMachine]:
     lay = layouts.get(sc.layout)
     names = []
     for i, e in enumerate(sc.model.events):
-        what = e.input if e.action == "set_input" else (f"{e.sensor} {e.fault}" if e.action == "sensor_fault" else "stop")
+        what = {"set_input": e.input, "sensor_fault": f"{e.sensor} {e.fault}",
+                "actuator_fault": f"{e.actuator} {e.fault}"}.get(e.action, "")
         names.append(f"event {i}: {e.action} {what}")
     trans = tuple(Transition("PENDING", "FIRED", n) for n in names) or (Transition("PENDING", "FIRED", "none"),)
     return list(lay.MACHINES) + [StateMachine("scenario", ("PENDING", "FIRED"), trans)]

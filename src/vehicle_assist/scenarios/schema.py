@@ -176,11 +176,12 @@ class Condition(Strict):
 class EventSpec(Strict):
     at_s: Time | None = None
     when: Condition | None = None
-    action: Literal["set_input", "sensor_fault", "stop"]
+    action: Literal["set_input", "sensor_fault", "actuator_fault", "stop"]
     input: str | None = None
     value: float | str | None = None
     sensor: str | None = None
-    fault: Literal["lost", "stuck", "bias"] | None = None
+    actuator: str | None = None
+    fault: Literal["lost", "stuck", "bias", "unpowered", "stuck_deenergized", "stuck_energized"] | None = None
     model_config = ConfigDict(extra="allow", frozen=True, allow_inf_nan=False)  # bias_<unit>
 
     @model_validator(mode="after")
@@ -189,8 +190,11 @@ class EventSpec(Strict):
             raise ValueError("an event needs 'at_s' (a time) or 'when' (a condition), or both")
         if self.action == "set_input" and (self.input is None or self.value is None):
             raise ValueError("action 'set_input' needs 'input' and 'value'")
-        if self.action == "sensor_fault" and (self.sensor is None or self.fault is None):
+        if self.action == "sensor_fault" and (self.sensor is None or self.fault not in ("lost", "stuck", "bias")):
             raise ValueError("action 'sensor_fault' needs 'sensor' and 'fault' (lost, stuck or bias)")
+        if self.action == "actuator_fault" and (
+                self.actuator is None or self.fault not in ("unpowered", "stuck_deenergized", "stuck_energized")):
+            raise ValueError("action 'actuator_fault' needs 'actuator' and 'fault' (unpowered, stuck_deenergized or stuck_energized)")
         return self
 
 

@@ -14,8 +14,8 @@ from vehicle_assist.core.tables import interp
 IN_ACCELERATOR, IN_BRAKE_PEDAL, IN_GEAR_LEVER, IN_HAND_VALVE, IN_STEERING = range(5)
 INPUTS = ("accelerator", "brake_pedal", "gear_lever", "hand_valve", "steering")
 # event actions
-ACT_SET_INPUT, ACT_SENSOR_FAULT, ACT_STOP = range(3)
-ACTIONS = ("set_input", "sensor_fault", "stop")
+ACT_SET_INPUT, ACT_SENSOR_FAULT, ACT_STOP, ACT_ACTUATOR_FAULT = range(4)
+ACTIONS = ("set_input", "sensor_fault", "stop", "actuator_fault")
 OP_ABOVE, OP_BELOW = range(2)
 EVENT_CAPACITY = 16
 EVENT_BUFFER = 512

@@ -61,6 +61,7 @@ SENSORS = (
 MEAS_DTYPE = np.dtype([(n, "f8") for n in SENSORS] + [(n.rsplit("_", 1)[0] + "_ok", "f8") for n in SENSORS])
 EVENT_SIGNALS = ("speed_mps", "position_m", "motor_torque_nm", "brake_pressure_pa")
 INPUTS = ("accelerator", "brake_pedal", "gear_lever")
+ACTUATORS: tuple[str, ...] = ()
 DEFAULT_GEAR_INDEX = 1  # D
 
 CHANNELS: dict[str, str] = {

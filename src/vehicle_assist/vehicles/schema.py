@@ -180,6 +180,53 @@ class Ehb(Strict):
     pedal_full_pressure_bar: Annotated[float, Field(gt=0, le=300)]
 
 
+class ReleaseTimeTable(Strict):
+    reservoir_pressure_bar: list[Annotated[float, Field(ge=0, le=15)]]
+    release_time_s: list[Annotated[float, Field(gt=0, le=60)]]
+
+    @model_validator(mode="after")
+    def _table(self):
+        Table("reservoir_pressure_bar", "release_time_s", tuple(self.reservoir_pressure_bar), tuple(self.release_time_s))
+        return self
+
+
+class HillStartAssist(Strict):
+    """Hill-start assist of paper 000 (functions/hill_start_amt.py; hill_start_amt.md 6, 7.2)."""
+
+    enabled_flag: Annotated[int, Field(ge=0, le=1)]
+    period_s: Annotated[float, Field(ge=1e-4, le=0.1)]
+    release_mode: Literal["preset_position", "load_adaptive"]
+    release_position_frac: list[Frac] = Field(min_length=1, max_length=24)
+    release_load_frac: Annotated[float, Field(gt=0, le=2)]
+    phase3_torque_frac: Annotated[float, Field(ge=1, le=5)]
+    approach_rate_per_s: Annotated[float, Field(gt=0, le=20)]
+    engage_rate_fast_per_s: Annotated[float, Field(gt=0, le=5)]
+    engage_rate_mid_per_s: Annotated[float, Field(gt=0, le=5)]
+    engage_rate_slow_per_s: Annotated[float, Field(gt=0, le=5)]
+    back_off_rate_per_s: Annotated[float, Field(ge=0, le=20)]
+    speed_drop_fast_rpm_per_s: Annotated[float, Field(gt=0, le=10000)]
+    speed_drop_slow_rpm_per_s: Annotated[float, Field(gt=0, le=10000)]
+    speed_rate_filter_s: Annotated[float, Field(gt=0, le=2)]
+    guard_speed_rpm: Annotated[float, Field(ge=0, le=2000)]
+    lockup_slip_rpm: Annotated[float, Field(gt=0, le=1000)]
+    lockup_rate_per_s: Annotated[float, Field(gt=0, le=20)]
+    moving_speed_mps: Annotated[float, Field(ge=0, le=5)]
+    standstill_speed_mps: Annotated[float, Field(gt=0, le=1)]
+    brake_applied_frac: Annotated[float, Field(gt=0, le=1)]
+    accelerator_on_frac: Annotated[float, Field(gt=0, le=1)]
+    reservoir_min_bar: Annotated[float, Field(ge=0, le=15)]
+    release_time: ReleaseTimeTable
+    release_timeout_margin_s: Annotated[float, Field(ge=0, le=30)]
+
+    @model_validator(mode="after")
+    def _order(self):
+        if not (self.engage_rate_slow_per_s <= self.engage_rate_mid_per_s <= self.engage_rate_fast_per_s):
+            raise ValueError("need engage_rate_slow_per_s <= engage_rate_mid_per_s <= engage_rate_fast_per_s")
+        if not self.speed_drop_slow_rpm_per_s < self.speed_drop_fast_rpm_per_s:
+            raise ValueError("need speed_drop_slow_rpm_per_s < speed_drop_fast_rpm_per_s")
+        return self
+
+
 class Vcu(Strict):
     """EV vehicle control unit (functions/ev_vcu.py)."""
 
@@ -198,6 +245,15 @@ class TruckAmt(Strict):
     service_brake: AirServiceBrake
     park_brake: SpringParkBrake
     amt_launch: AmtLaunch
+    hill_start_assist: HillStartAssist
+
+    @model_validator(mode="after")
+    def _gears(self):
+        n = len(self.gearbox.ratios)
+        if len(self.hill_start_assist.release_position_frac) != n:
+            raise ValueError(f"hill_start_assist.release_position_frac has {len(self.hill_start_assist.release_position_frac)} "
+                             f"entries but the gearbox has {n} gears; give one release position per gear")
+        return self
 
 
 class EvEhb(Strict):
@@ -213,8 +269,10 @@ class EvEhb(Strict):
 
 
 LAYOUTS: dict[str, type[Strict]] = {"truck_amt": TruckAmt, "ev_ehb": EvEhb}
-TABLE_KEYS = {"full_load_torque": ("speed_rpm", "torque_nm"), "pedal_map": ("accelerator_frac", "torque_nm")}
+TABLE_KEYS = {"full_load_torque": ("speed_rpm", "torque_nm"), "pedal_map": ("accelerator_frac", "torque_nm"),
+              "release_time": ("reservoir_pressure_bar", "release_time_s")}
 NON_NUMERIC = {"gear_names"}
+CODES = {"release_mode": {"preset_position": 0.0, "load_adaptive": 1.0}}  # string choices -> kernel codes
 
 
 def flatten_vehicle(model: Strict) -> dict[str, float | Table | np.ndarray]:
@@ -233,6 +291,9 @@ def flatten_section(section_name: str, section: Strict) -> dict[str, float | Tab
     flat: dict[str, float | Table | np.ndarray] = {}
     for key, value in section:
         if key in NON_NUMERIC:
+            continue
+        if key in CODES:
+            flat[f"{section_name}_{key}"] = CODES[key][value]
             continue
         if isinstance(value, BaseModel):
             xk, yk = TABLE_KEYS[key]

@@ -30,13 +30,15 @@ import numpy as np
 from vehicle_assist.conventions import G_MPS2, STANDSTILL_SPEED_MPS
 from vehicle_assist.core.fsm import StateMachine, Transition, log_event
 from vehicle_assist.core.tables import interp
-from vehicle_assist.functions import amt_launch
+from vehicle_assist.functions import amt_launch, hill_start_amt
 from vehicle_assist.plant.brakes.pneumatic import (
     decay,
     first_order_step,
     hand_valve_control_pressure_pa,
     park_brake_capacity_n,
     spring_chamber_step,
+    valve_32_control_pressure_pa,
+    valve_32_position,
 )
 from vehicle_assist.plant.longitudinal import (
     aero_drag_n,
@@ -50,6 +52,7 @@ from vehicle_assist.plant.powertrain.engine import engine_torque_nm
 from vehicle_assist.plant.powertrain.gearbox import efficiency_factor, gear_ratio, shift_step
 from vehicle_assist.plant.sensors import sample_sensors
 from vehicle_assist.vehicles.common import (
+    ACT_ACTUATOR_FAULT,
     ACT_SENSOR_FAULT,
     ACT_SET_INPUT,
     ACT_STOP,
@@ -81,11 +84,14 @@ SENSORS = (
     "hand_valve_released_flag",
     "gear_lever_index",
     "gear_engaged_index",
+    "vehicle_mass_kg",
 )
 SENSOR_DOC = {
     "longitudinal_accel_mps2": "specific force along x: dv/dt + g*sin(slope); reads g*sin(slope) at rest",
     "park_lamp_flag": "park-brake pressure switch: 1 while the spring chambers are below the lamp pressure",
+    "vehicle_mass_kg": "load estimate (air-suspension / axle-load sensing); used by the load-adaptive release",
 }
+ACTUATORS = ("valve_32",)  # actuator faults: valve_32 unpowered | stuck_deenergized | stuck_energized
 MEAS_DTYPE = np.dtype([(n, "f8") for n in SENSORS] + [(n.rsplit("_", 1)[0] + "_ok", "f8") for n in SENSORS])
 EVENT_SIGNALS = ("speed_mps", "position_m", "engine_speed_radps", "clutch_position_frac", "park_chamber_pressure_pa")
 
@@ -99,6 +105,7 @@ CHANNELS: dict[str, str] = {
     "grade_resistance_n": "F_i = m*g*sin(alpha) (resistance, + opposes forward motion)",
     "aero_drag_n": "F_w (resistance, + opposes forward motion)",
     "rolling_resistance_force_n": "rolling resistance acting on the vehicle (+x); a reaction at rest",
+    "rolling_resistance_capacity_n": "F_f = m*g*f*cos(alpha): rolling resistance while moving, its bound at rest",
     "service_brake_force_n": "service brake force on the vehicle (+x); a reaction at rest",
     "service_brake_capacity_n": "service brake holding capacity at the ground",
     "park_brake_force_n": "park brake force on the vehicle (+x = uphill, the F_g of paper 000); a reaction at rest",
@@ -124,6 +131,9 @@ CHANNELS: dict[str, str] = {
     "brake_pedal_frac": "driver service brake pedal",
     "hand_valve_released_flag": "driver hand park valve: 1 = released (supplies the control line)",
     "amt_mode_index": "mode of the AMT start program (see the amt_launch state machine)",
+    "hsa_mode_index": "mode of the hill-start assist (see the hill_start_amt state machine)",
+    "valve_32_energized_flag": "3/2 solenoid valve spool position: 1 = energised (park brake held)",
+    "engine_speed_rate_radps2": "engine-speed rate dn_e/dt as filtered by the hill-start assist",
 }
 TRACE_DTYPE = np.dtype([(name, "f8") for name in CHANNELS])
 
@@ -142,13 +152,14 @@ MACHINES = (
         Transition("SHIFTING", "IN_GEAR", "gear_engaged"),
     )),
     amt_launch.MACHINE,
+    hill_start_amt.MACHINE,
 )
-M_VEHICLE, M_CLUTCH, M_ENGINE, M_GEARBOX, M_AMT = range(5)
+M_VEHICLE, M_CLUTCH, M_ENGINE, M_GEARBOX, M_AMT, M_HSA = range(6)
 M_SCENARIO = len(MACHINES)  # scenario events are logged under this id
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def simulate(p, s, noise, meas, tcu, tr, events):
+def simulate(p, s, noise, meas, tcu, hsa, tr, events):
     """Run one scenario. ``p`` vehicle record, ``s`` scenario record, ``noise`` (ticks x sensors) standard
     normal draws, ``meas``/``tcu`` measurement and controller-state records, ``tr`` trace rows, ``events``
     event buffer. Returns (rows written, events logged)."""
@@ -157,8 +168,14 @@ def simulate(p, s, noise, meas, tcu, tr, events):
     ctrl_every = max(1, int(round(s.controller_period_s / dt)))  # sensor sampling tick
     # each controller runs at its own ECU period, a whole number of sampling ticks
     amt_launch_every = max(1, int(round(p.amt_launch_period_s / s.controller_period_s)))
+    hsa_every = max(1, int(round(p.hill_start_assist_period_s / s.controller_period_s)))
+    hsa_enabled = p.hill_start_assist_enabled_flag > 0.5
+    valve_fault = 0
+    valve_pos = 0.0
+    hsa_active = False
+    clutch_cmd = 0.0
     rec_every = max(1, int(round(s.record_period_s / dt)))
-    n_sens = len(noise[0]) if noise.shape[0] > 0 else 12
+    n_sens = noise.shape[1]
     m_kg = p.body_mass_kg
     r = p.body_wheel_radius_m
     i0 = p.gearbox_final_drive_ratio
@@ -254,6 +271,8 @@ def simulate(p, s, noise, meas, tcu, tr, events):
                         fault_value[tgt] = s.event_value2[e]
                     elif act == ACT_STOP:
                         stop = True
+                    elif act == ACT_ACTUATOR_FAULT:
+                        valve_fault = int(s.event_value[e])
         driver_inputs(s, t, override_on, override_value, inputs)
 
         # 2. sample, then run the controllers on that sample
@@ -270,6 +289,7 @@ def simulate(p, s, noise, meas, tcu, tr, events):
             truth[9] = inputs[IN_HAND_VALVE]
             truth[10] = round(inputs[IN_GEAR_LEVER])
             truth[11] = gear
+            truth[12] = m_kg
             sample_sensors(truth, history, tick, noise[min(tick, noise.shape[0] - 1)], s.sensor_noise_std, s.sensor_bias,
                            delay_ticks, fault, fault_value, last, values, ok)
             meas.vehicle_speed_mps = values[0]
@@ -296,8 +316,29 @@ def simulate(p, s, noise, meas, tcu, tr, events):
             meas.hand_valve_released_ok = ok[9]
             meas.gear_lever_ok = ok[10]
             meas.gear_engaged_ok = ok[11]
-            if tick % amt_launch_every == 0:
+            meas.vehicle_mass_kg = values[12]
+            meas.vehicle_mass_ok = ok[12]
+            if hsa_enabled and tick % hsa_every == 0:
+                was_done = int(hsa.mode) == hill_start_amt.DONE
+                n_events = hill_start_amt.step(hsa, meas, p, p.hill_start_assist_period_s, t, M_HSA, events, n_events)
+                if int(hsa.mode) == hill_start_amt.DONE and not was_done:
+                    # the assist hands a closed clutch to the AMT start program
+                    n_events = log_event(events, n_events, t, M_AMT, int(tcu.mode), amt_launch.CLOSED,
+                                         amt_launch.G_HANDED_OVER)
+                    tcu.mode = amt_launch.CLOSED
+                    tcu.clutch_command_frac = 1.0
+                    tcu.gear_command_index = meas.gear_engaged_index
+            if hsa_enabled:
+                hsa_active = hill_start_amt.is_active(hsa)
+                if hsa_active and (int(tcu.mode) == amt_launch.APPROACH or int(tcu.mode) == amt_launch.ENGAGE):
+                    # the assist takes the clutch from a launch the start program had begun
+                    n_events = log_event(events, n_events, t, M_AMT, int(tcu.mode), amt_launch.OPEN,
+                                         amt_launch.G_TOOK_OVER)
+                    tcu.mode = amt_launch.OPEN
+                    tcu.clutch_command_frac = 0.0
+            if tick % amt_launch_every == 0 and not hsa_active:
                 n_events = amt_launch.step(tcu, meas, p, p.amt_launch_period_s, t, M_AMT, events, n_events)
+            clutch_cmd = hsa.clutch_command_frac if hsa_active else tcu.clutch_command_frac
             tick += 1
 
         # 3. forces at t, from the state at t; the driveline and vehicle give the state at t + dt
@@ -403,6 +444,7 @@ def simulate(p, s, noise, meas, tcu, tr, events):
             row.grade_resistance_n = f_i
             row.aero_drag_n = f_w
             row.rolling_resistance_force_n = f_roll
+            row.rolling_resistance_capacity_n = f_roll_cap
             row.service_brake_force_n = f_sb
             row.service_brake_capacity_n = f_sb_cap
             row.park_brake_force_n = f_pb
@@ -413,7 +455,7 @@ def simulate(p, s, noise, meas, tcu, tr, events):
             row.engine_torque_nm = t_e
             row.engine_stalled_flag = 1.0 if stalled else 0.0
             row.clutch_position_frac = x_c
-            row.clutch_command_frac = tcu.clutch_command_frac
+            row.clutch_command_frac = clutch_cmd
             row.clutch_capacity_nm = cap
             row.clutch_torque_nm = t_c if ratio > 0.0 or cap > 0.0 else 0.0
             row.input_shaft_speed_radps = w_in
@@ -428,6 +470,9 @@ def simulate(p, s, noise, meas, tcu, tr, events):
             row.brake_pedal_frac = inputs[IN_BRAKE_PEDAL]
             row.hand_valve_released_flag = inputs[IN_HAND_VALVE]
             row.amt_mode_index = tcu.mode
+            row.hsa_mode_index = hsa.mode if hsa_enabled else -1.0
+            row.valve_32_energized_flag = valve_pos
+            row.engine_speed_rate_radps2 = hsa.engine_speed_rate_radps2
             n_rec += 1
         if k == n_steps or stop:
             break
@@ -444,7 +489,7 @@ def simulate(p, s, noise, meas, tcu, tr, events):
             stalled = True
             locked = False
             n_events = log_event(events, n_events, t + dt, M_ENGINE, 0, 1, 0)
-        x_c = actuator_step(x_c, tcu.clutch_command_frac, p.clutch_actuator_time_constant_s,
+        x_c = actuator_step(x_c, clutch_cmd, p.clutch_actuator_time_constant_s,
                             p.clutch_actuator_max_rate_per_s, dt)
         old_gear = gear
         gear, gear_target, shift_timer = shift_step(gear, gear_target, shift_timer, tcu.gear_command_index,
@@ -457,7 +502,8 @@ def simulate(p, s, noise, meas, tcu, tr, events):
                 n_events = log_event(events, n_events, t + dt, M_GEARBOX, 1, 0, 1)
                 w_in = v * gear_ratio(p.gearbox_ratios, len(p.gearbox_ratios), gear) * i0 / r  # synchroniser
         p_sb = first_order_step(p_sb, inputs[IN_BRAKE_PEDAL], service_decay)
-        p_ctrl = hand_valve_control_pressure_pa(inputs[IN_HAND_VALVE], p_s)
+        valve_pos = valve_32_position(hsa.valve_command_flag if hsa_enabled else 0.0, valve_fault)
+        p_ctrl = valve_32_control_pressure_pa(hand_valve_control_pressure_pa(inputs[IN_HAND_VALVE], p_s), valve_pos)
         p_sp = spring_chamber_step(p_sp, p_ctrl, fill_decay, exhaust_decay)
     return n_rec, n_events
 
@@ -479,9 +525,9 @@ def derived(flat: dict) -> dict:
 def controller_states() -> tuple:
     """Fresh measurement record and controller state records (the kernel's mutable arguments)."""
     meas = np.zeros(1, dtype=MEAS_DTYPE).view(np.recarray)
-    return meas[0], amt_launch.initial_state()[0]
+    return meas[0], amt_launch.initial_state()[0], hill_start_amt.initial_state()[0]
 
 
 def run_kernel(p, s, noise, trace, events):
-    meas, tcu = controller_states()
-    return simulate(p, s, noise, meas, tcu, trace, events)
+    meas, tcu, hsa = controller_states()
+    return simulate(p, s, noise, meas, tcu, hsa, trace, events)

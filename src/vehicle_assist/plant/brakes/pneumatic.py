@@ -61,3 +61,32 @@ def decay(tau_s, dt):
 def first_order_step(value, target, decay_factor):
     """Exact step of dx/dt = (target - x)/tau with ``decay_factor`` = exp(-dt/tau)."""
     return target + (value - target) * decay_factor
+
+
+# 3/2 solenoid valve in the control line (paper 000, P3; hill_start_amt.md 3) -------------------------
+VALVE_OK = 0
+VALVE_STUCK_DEENERGIZED = 1  # also: unpowered (wire broken, fuse): passes the driver's command
+VALVE_STUCK_ENERGIZED = 2
+VALVE_FAULTS = {"none": VALVE_OK, "unpowered": VALVE_STUCK_DEENERGIZED,
+                "stuck_deenergized": VALVE_STUCK_DEENERGIZED, "stuck_energized": VALVE_STUCK_ENERGIZED}
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def valve_32_position(command_energized, fault):
+    """Actual spool position (1 = energised) from the command and the valve's fault state."""
+    if fault == VALVE_STUCK_DEENERGIZED:
+        return 0.0
+    if fault == VALVE_STUCK_ENERGIZED:
+        return 1.0
+    return 1.0 if command_energized > 0.5 else 0.0
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def valve_32_control_pressure_pa(hand_valve_pa, energized):
+    """Relay-valve control pressure behind the 3/2 valve.
+
+    De-energised: line A (hand valve) passes straight through to line B (fail-safe, the truck behaves as
+    without the assist). Energised: line A is blocked and line B vents through port 3, so the chambers
+    exhaust / stay exhausted and the spring brake stays applied whatever the driver does.
+    """
+    return 0.0 if energized > 0.5 else hand_valve_pa

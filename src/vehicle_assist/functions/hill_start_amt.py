@@ -1,0 +1,291 @@
+"""Hill-start assist for a heavy AMT truck with an electro-pneumatic spring park brake (paper 000:
+Wang, Zhao, Liu 2009; specification hill_start_amt.md sections 4 and 6).
+
+The assist coordinates the park brake (through the 3/2 solenoid valve in its control line), the clutch
+and the engine so that the truck neither rolls back nor stalls, with little clutch wear:
+
+* **Entry (P11).** When the driver releases the service brake while the park brake is applied (park
+  lamp on) and the truck stands in gear, the hill-start program starts and energises the 3/2 valve: the
+  park brake stays applied whatever the driver does with the hand valve. Otherwise the AMT's normal
+  start program runs.
+* **Clutch (P10, P14).** Approach to the kiss point at v_A; then slip engagement whose rate follows
+  the engine-speed drop rate (filtered dn_e/dt): fast drop -> slow engagement (heavy load / deep clutch),
+  slow or no drop -> fast engagement, engine below the guard speed -> back off (anti-stall); when the
+  slip speed is small and the truck moves, fast final lock-up at v_C.
+* **No back-off below the holding torque.** Once the release is commanded and until the truck moves,
+  the anti-stall back-off stops at the clutch position that carries the holding torque estimated from
+  the measured grade and load (added by us: at 6.5 bar the slow release made the engine dip into the
+  guard, and backing off past the holding torque rolled the empty truck back 0.24-1.1 m).
+* **Small reverse growth (P6).** While the truck stands on the releasing park brake, the clutch engages
+  no deeper than ``phase3_torque_frac`` x the estimated holding torque (the park force then grows only a
+  little in reverse); the limit is lifted as soon as the truck moves either way. Without it the law
+  kept engaging to twice the holding torque, the truck leapt when the brake let go, the engine was
+  pulled into the guard and the back-off rolled the empty truck back 1.1 m at 6.5 bar.
+* **Release instant (P6, P12, P14).** The valve is de-energised (chambers start to fill, if the driver
+  has released the hand valve) when the clutch reaches the preset position x_rel of the start gear
+  (paper-literal), or, load-adaptive, when the clutch capacity reaches k_rel times the torque that
+  holds the truck, estimated from the measured grade (accelerometer at rest) and the measured load.
+  The chambers need ~0.5 s before the force falls, so the release begins in phase 3 (F_t > F_i).
+* **Stand-down.** A fault makes the assist stand down and say why (the guard name is the reason).
+  What it then does is chosen so that the assist never makes the truck roll back:
+
+  | reason | action |
+  |---|---|
+  | park switch failed, reservoir below 6.5 bar, engine speed lost - at entry | passive: the AMT's normal start program runs, as without the assist |
+  | valve not holding (lamp goes out while energised: the driver's hand valve is releasing the brake) | drive on: keep the slip-engagement law running, so drive force builds as fast as the engine allows |
+  | engine speed lost before the release command | hold: valve stays energised (park brake applied), clutch opens |
+  | engine speed lost after the release command (the park force may already be falling) | drive on, at the slow engagement rate (no engine-speed feedback) |
+  | park brake not released (stuck valve, lamp still on after the timeout, truck standing) | hold: clutch opens against the applied park brake |
+
+  It stays stood down until the driver takes over (service brake pressed or hand valve to park), or
+  until a drive-on closes the clutch.
+
+The controller sees measurements only (``m``); ``c`` is its state, ``p`` the vehicle record.
+"""
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+from vehicle_assist.core.fsm import StateMachine, Transition, log_event, next_mode
+from vehicle_assist.core.tables import interp
+from vehicle_assist.plant.powertrain.clutch import clutch_capacity_nm, clutch_position_for_capacity
+
+MACHINE = StateMachine(
+    "hill_start_amt",
+    modes=("STANDBY", "NORMAL_START", "HOLD", "APPROACH", "ENGAGE_HELD", "ENGAGE_RELEASING", "LOCKUP",
+           "DONE", "STOOD_DOWN"),
+    transitions=(
+        # entry (P11) and its preconditions
+        Transition("STANDBY", "STOOD_DOWN", "park_switch_failed_at_entry"),
+        Transition("STANDBY", "STOOD_DOWN", "reservoir_pressure_low_at_entry"),
+        Transition("STANDBY", "STOOD_DOWN", "engine_speed_lost_at_entry"),
+        Transition("STANDBY", "HOLD", "service_brake_released_on_park_brake"),
+        Transition("STANDBY", "NORMAL_START", "service_brake_released_without_park_brake"),
+        Transition("NORMAL_START", "STANDBY", "stopped_on_service_brake"),
+        # faults during the start
+        Transition("HOLD", "STOOD_DOWN", "valve_not_holding"),
+        Transition("APPROACH", "STOOD_DOWN", "valve_not_holding"),
+        Transition("ENGAGE_HELD", "STOOD_DOWN", "valve_not_holding"),
+        Transition("HOLD", "STOOD_DOWN", "engine_speed_lost"),
+        Transition("APPROACH", "STOOD_DOWN", "engine_speed_lost"),
+        Transition("ENGAGE_HELD", "STOOD_DOWN", "engine_speed_lost"),
+        Transition("ENGAGE_RELEASING", "STOOD_DOWN", "engine_speed_lost"),
+        Transition("ENGAGE_RELEASING", "STOOD_DOWN", "park_brake_not_released"),
+        # the driver takes over
+        Transition("HOLD", "STANDBY", "driver_brakes"),
+        Transition("APPROACH", "STANDBY", "driver_brakes"),
+        Transition("ENGAGE_HELD", "STANDBY", "driver_brakes"),
+        # the start (P10, P14)
+        Transition("HOLD", "APPROACH", "accelerator_pressed"),
+        Transition("APPROACH", "ENGAGE_HELD", "kiss_point_reached"),
+        Transition("ENGAGE_HELD", "ENGAGE_RELEASING", "release_point_reached"),
+        Transition("ENGAGE_RELEASING", "LOCKUP", "slip_small"),
+        Transition("LOCKUP", "DONE", "clutch_closed"),
+        Transition("DONE", "STANDBY", "stopped_on_service_brake"),
+        Transition("STOOD_DOWN", "DONE", "clutch_closed"),
+        Transition("STOOD_DOWN", "STANDBY", "driver_takes_over"),
+    ),
+    doc=__doc__ or "",
+)
+TABLE = MACHINE.table()
+(STANDBY, NORMAL_START, HOLD, APPROACH, ENGAGE_HELD, ENGAGE_RELEASING, LOCKUP, DONE, STOOD_DOWN) = range(9)
+GUARDS = MACHINE.guards
+(G_SWITCH_FAILED, G_RESERVOIR_LOW, G_ENGINE_LOST_ENTRY, G_ENTRY, G_NORMAL, G_STOPPED, G_VALVE_NOT_HOLDING,
+ G_ENGINE_LOST, G_NOT_RELEASED, G_DRIVER_BRAKES, G_ACCELERATOR, G_KISS, G_RELEASE, G_SLIP_SMALL, G_CLOSED,
+ G_TAKES_OVER) = range(16)
+assert GUARDS == (
+    "park_switch_failed_at_entry", "reservoir_pressure_low_at_entry", "engine_speed_lost_at_entry",
+    "service_brake_released_on_park_brake", "service_brake_released_without_park_brake",
+    "stopped_on_service_brake", "valve_not_holding", "engine_speed_lost", "park_brake_not_released",
+    "driver_brakes", "accelerator_pressed", "kiss_point_reached", "release_point_reached", "slip_small",
+    "clutch_closed", "driver_takes_over",
+)
+ACTIVE = (HOLD, APPROACH, ENGAGE_HELD, ENGAGE_RELEASING, LOCKUP)  # the assist drives the clutch
+RELEASE_PRESET, RELEASE_LOAD_ADAPTIVE = 0, 1
+RELEASE_MODES = {"preset_position": RELEASE_PRESET, "load_adaptive": RELEASE_LOAD_ADAPTIVE}
+
+STATE_DTYPE = np.dtype([
+    ("mode", "f8"),
+    ("clutch_command_frac", "f8"),
+    ("valve_command_flag", "f8"),            # 1 = 3/2 valve energised (park brake held)
+    ("brake_was_applied_flag", "f8"),        # for the service-brake release edge
+    ("engine_speed_prev_radps", "f8"),
+    ("engine_speed_rate_radps2", "f8"),      # filtered dn_e/dt
+    ("grade_estimate_rad", "f8"),            # from the accelerometer while standing
+    ("hold_torque_estimate_nm", "f8"),       # clutch torque that holds the truck (load-adaptive release)
+    ("release_commanded_flag", "f8"),
+    ("mode_time_s", "f8"),                   # time in the current mode
+    ("stand_down_action", "f8"),             # STAND_DOWN_PASSIVE / _HOLD / _DRIVE_ON
+])
+STAND_DOWN_PASSIVE, STAND_DOWN_HOLD, STAND_DOWN_DRIVE_ON = range(3)
+
+
+def initial_state() -> np.recarray:
+    s = np.zeros(1, dtype=STATE_DTYPE).view(np.recarray)
+    s.mode[0] = STANDBY
+    return s
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def hold_torque_estimate_nm(mass_kg, grade_rad, rolling_coeff, wheel_radius_m, total_ratio):
+    """T_hold = m*g*(sin(alpha) + f*cos(alpha))*r_w/(i_g*i_0): clutch torque that holds the truck (6.2)."""
+    if total_ratio <= 0.0:
+        return np.inf
+    return mass_kg * 9.81 * (math.sin(grade_rad) + rolling_coeff * math.cos(grade_rad)) * wheel_radius_m / total_ratio
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def engagement_rate_per_s(p, engine_speed_radps, engine_speed_rate_radps2):
+    """Slip-engagement law of hill_start_amt.md 6.3 (phase B): the clutch rate follows the engine-speed drop."""
+    if engine_speed_radps < p.hill_start_assist_guard_speed_radps:
+        return -p.hill_start_assist_back_off_rate_per_s  # anti-stall
+    if engine_speed_rate_radps2 <= -p.hill_start_assist_speed_drop_fast_radps2:
+        return p.hill_start_assist_engage_rate_slow_per_s  # engine pulled down fast: heavy load or deep clutch
+    if engine_speed_rate_radps2 <= -p.hill_start_assist_speed_drop_slow_radps2:
+        return p.hill_start_assist_engage_rate_mid_per_s
+    return p.hill_start_assist_engage_rate_fast_per_s  # engine not falling: light load, shallow clutch
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def step(c, m, p, dt, t, machine_id, events, n_events):
+    """One controller period. Returns the updated event count."""
+    gear = int(round(m.gear_engaged_index))
+    ratio = 0.0
+    if 1 <= gear <= len(p.gearbox_ratios):
+        ratio = p.gearbox_ratios[gear - 1] * p.gearbox_final_drive_ratio
+    standing = abs(m.vehicle_speed_mps) < p.hill_start_assist_standstill_speed_mps
+    brake_applied = m.brake_pedal_frac >= p.hill_start_assist_brake_applied_frac
+    brake_released_edge = c.brake_was_applied_flag > 0.5 and not brake_applied
+    park_applied = m.park_lamp_flag > 0.5
+    engine_ok = m.engine_speed_ok > 0.5
+
+    # filtered engine-speed rate (first-order low-pass of the finite difference)
+    if engine_ok:
+        raw = (m.engine_speed_radps - c.engine_speed_prev_radps) / dt if c.engine_speed_prev_radps > 0.0 else 0.0
+        alpha = dt / (p.hill_start_assist_speed_rate_filter_s + dt)
+        c.engine_speed_rate_radps2 += alpha * (raw - c.engine_speed_rate_radps2)
+        c.engine_speed_prev_radps = m.engine_speed_radps
+    # grade from the accelerometer while the truck stands (reads g*sin(alpha) at rest)
+    if standing and m.longitudinal_accel_ok > 0.5:
+        c.grade_estimate_rad = math.asin(min(max(m.longitudinal_accel_mps2 / 9.81, -1.0), 1.0))
+    c.hold_torque_estimate_nm = hold_torque_estimate_nm(m.vehicle_mass_kg, c.grade_estimate_rad,
+                                                        p.body_rolling_resistance_coeff, p.body_wheel_radius_m, ratio)
+
+    cap = clutch_capacity_nm(c.clutch_command_frac, p.clutch_max_torque_nm, p.clutch_kiss_point_frac,
+                             p.clutch_capacity_exponent)
+    if int(p.hill_start_assist_release_mode) == RELEASE_LOAD_ADAPTIVE:
+        at_release_point = cap >= p.hill_start_assist_release_load_frac * c.hold_torque_estimate_nm
+    else:
+        x_rel = p.hill_start_assist_release_position_frac[gear - 1] if gear >= 1 else 1.0
+        at_release_point = c.clutch_command_frac >= x_rel
+    entry = brake_released_edge and standing and gear > 0
+
+    g = np.zeros(16, dtype=np.bool_)
+    g[G_SWITCH_FAILED] = entry and m.park_lamp_ok < 0.5
+    g[G_RESERVOIR_LOW] = entry and park_applied and (
+        m.reservoir_pressure_ok < 0.5 or m.reservoir_pressure_pa < p.hill_start_assist_reservoir_min_pa)
+    g[G_ENGINE_LOST_ENTRY] = entry and park_applied and not engine_ok
+    g[G_ENTRY] = entry and park_applied
+    g[G_NORMAL] = entry and not park_applied
+    g[G_STOPPED] = standing and brake_applied
+    g[G_VALVE_NOT_HOLDING] = m.park_lamp_ok > 0.5 and not park_applied
+    g[G_ENGINE_LOST] = not engine_ok
+    # the park lamp should go out within the paper's Table-1 release time for the measured reservoir pressure
+    expected_release_s = interp(p.hill_start_assist_release_time_x, p.hill_start_assist_release_time_y,
+                                p.hill_start_assist_release_time_n, p.hill_start_assist_release_time_extrap,
+                                p.hill_start_assist_release_time_interp, m.reservoir_pressure_pa)
+    g[G_NOT_RELEASED] = (c.mode_time_s > expected_release_s + p.hill_start_assist_release_timeout_margin_s
+                         and park_applied and standing)
+    g[G_DRIVER_BRAKES] = brake_applied
+    g[G_ACCELERATOR] = m.accelerator_frac >= p.hill_start_assist_accelerator_on_frac
+    g[G_KISS] = c.clutch_command_frac >= p.clutch_kiss_point_frac
+    g[G_RELEASE] = at_release_point and m.hand_valve_released_flag > 0.5
+    g[G_SLIP_SMALL] = (abs(m.engine_speed_radps - m.input_shaft_speed_radps) <= p.hill_start_assist_lockup_slip_radps
+                       and m.vehicle_speed_mps > p.hill_start_assist_moving_speed_mps)
+    g[G_CLOSED] = c.clutch_command_frac >= 1.0
+    g[G_TAKES_OVER] = brake_applied or m.hand_valve_released_flag < 0.5
+
+    mode = int(c.mode)
+    new_mode, guard = next_mode(TABLE, mode, g)
+    if new_mode != mode:
+        n_events = log_event(events, n_events, t, machine_id, mode, new_mode, guard)
+        c.mode = new_mode
+        c.mode_time_s = 0.0
+        if new_mode == ENGAGE_RELEASING:
+            c.release_commanded_flag = 1.0
+        elif new_mode == STANDBY:
+            c.release_commanded_flag = 0.0
+        elif new_mode == STOOD_DOWN:
+            if mode == STANDBY:
+                c.stand_down_action = STAND_DOWN_PASSIVE
+            elif guard == G_VALVE_NOT_HOLDING:
+                c.stand_down_action = STAND_DOWN_DRIVE_ON
+            elif guard == G_ENGINE_LOST and mode == ENGAGE_RELEASING:
+                c.stand_down_action = STAND_DOWN_DRIVE_ON
+            else:
+                c.stand_down_action = STAND_DOWN_HOLD
+    else:
+        c.mode_time_s += dt
+    c.brake_was_applied_flag = 1.0 if brake_applied else 0.0
+
+    # outputs: 3/2 valve and clutch command
+    x = c.clutch_command_frac
+    held = new_mode == HOLD or new_mode == APPROACH or new_mode == ENGAGE_HELD
+    if new_mode == STOOD_DOWN:
+        action = int(c.stand_down_action)
+        held = action == STAND_DOWN_HOLD and c.valve_command_flag > 0.5  # keep holding what was held
+        if action == STAND_DOWN_HOLD:
+            x = 0.0
+        elif action == STAND_DOWN_DRIVE_ON:
+            slip_small = abs(m.engine_speed_radps - m.input_shaft_speed_radps) <= p.hill_start_assist_lockup_slip_radps
+            if engine_ok and slip_small and m.vehicle_speed_mps > p.hill_start_assist_moving_speed_mps:
+                x = x + p.hill_start_assist_lockup_rate_per_s * dt
+            elif engine_ok:
+                x = max(x + engagement_rate_per_s(p, m.engine_speed_radps, c.engine_speed_rate_radps2) * dt,
+                        p.clutch_kiss_point_frac)
+            else:
+                x = max(x + p.hill_start_assist_engage_rate_slow_per_s * dt, p.clutch_kiss_point_frac)
+    elif new_mode == HOLD:
+        x = 0.0
+    elif new_mode == APPROACH:
+        x = min(x + p.hill_start_assist_approach_rate_per_s * dt, p.clutch_kiss_point_frac)
+    elif new_mode == ENGAGE_HELD:
+        if m.hand_valve_released_flag < 0.5 and at_release_point:
+            pass  # driver still holds the hand valve in park: wait at the release point (6.2)
+        else:
+            x = max(x + engagement_rate_per_s(p, m.engine_speed_radps, c.engine_speed_rate_radps2) * dt,
+                    p.clutch_kiss_point_frac)
+    elif new_mode == ENGAGE_RELEASING:
+        # while the park force falls, the anti-stall back-off never takes the clutch below the torque that
+        # holds the truck on the measured grade: backing off here would roll the truck back
+        floor = p.clutch_kiss_point_frac
+        if m.vehicle_speed_mps < p.hill_start_assist_moving_speed_mps:
+            floor = max(floor, clutch_position_for_capacity(c.hold_torque_estimate_nm, p.clutch_max_torque_nm,
+                                                            p.clutch_kiss_point_frac, p.clutch_capacity_exponent))
+        x = max(x + engagement_rate_per_s(p, m.engine_speed_radps, c.engine_speed_rate_radps2) * dt, min(floor, x))
+        # P6: keep the reverse growth of the park force small. While the truck still stands on the releasing
+        # park brake, engage no deeper than k x the holding torque; if it rolls back, the limit is lifted.
+        if abs(m.vehicle_speed_mps) < p.hill_start_assist_moving_speed_mps and m.vehicle_speed_mps > -p.hill_start_assist_standstill_speed_mps:
+            ceiling = clutch_position_for_capacity(p.hill_start_assist_phase3_torque_frac * c.hold_torque_estimate_nm,
+                                                   p.clutch_max_torque_nm, p.clutch_kiss_point_frac,
+                                                   p.clutch_capacity_exponent)
+            x = min(x, max(ceiling, c.clutch_command_frac))  if x > ceiling else x
+    elif new_mode == LOCKUP:
+        x = x + p.hill_start_assist_lockup_rate_per_s * dt
+    elif new_mode == DONE:
+        x = 1.0
+    c.clutch_command_frac = min(max(x, 0.0), 1.0)
+    c.valve_command_flag = 1.0 if held else 0.0
+    return n_events
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def is_active(c):
+    """True while the assist (not the AMT's normal start program) drives the clutch."""
+    mode = int(c.mode)
+    if mode == STOOD_DOWN:
+        return int(c.stand_down_action) != STAND_DOWN_PASSIVE
+    return mode == HOLD or mode == APPROACH or mode == ENGAGE_HELD or mode == ENGAGE_RELEASING or mode == LOCKUP
