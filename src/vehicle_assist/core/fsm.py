@@ -75,7 +75,10 @@ def next_mode(table, mode, guard_values):
     return mode, -1
 
 
-@nb.njit(cache=True, nogil=True, error_model="numpy")
+# explicit signature: one compiled version whatever literal ints or float modes the callers pass
+# (without it numba compiled eleven specialisations, ~1.5 s of every cold start)
+@nb.njit(nb.int64(nb.float64[:, ::1], nb.int64, nb.float64, nb.int64, nb.int64, nb.int64, nb.int64),
+         cache=True, nogil=True, error_model="numpy")
 def log_event(events, n_events, time_s, machine, from_mode, to_mode, reason):
     """Append a mode change to the event buffer (silently drops beyond its capacity; the count says so)."""
     if n_events < events.shape[0]:

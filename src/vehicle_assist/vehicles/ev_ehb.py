@@ -153,9 +153,9 @@ def simulate(p, s, noise, meas, vcu, tr, events):
     f_b = 0.0
     f_b_cap = 0.0
     p_brake = 0.0
-    n_events = 0
-    n_rec = 0
-    tick = 0
+    n_events = np.int64(0)  # np.int64, not 0: a literal 0 makes numba compile callees twice
+    n_rec = np.int64(0)
+    tick = np.int64(0)
     m_eq = equivalent_mass_kg(m_kg, p.body_wheel_inertia_total_kgm2, r, p.motor_rotor_inertia_kgm2, i0, eta)
 
     for k in range(n_steps + 1):

@@ -170,7 +170,7 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
     amt_launch_every = max(1, int(round(p.amt_launch_period_s / s.controller_period_s)))
     hsa_every = max(1, int(round(p.hill_start_assist_period_s / s.controller_period_s)))
     hsa_enabled = p.hill_start_assist_enabled_flag > 0.5
-    valve_fault = 0
+    valve_fault = np.int64(0)
     valve_pos = 0.0
     hsa_active = False
     clutch_cmd = 0.0
@@ -215,8 +215,8 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
     v = s.initial_speed_mps
     a = 0.0
     w_e = p.engine_idle_speed_radps
-    stalled = False
-    locked = False
+    stalled = np.bool_(False)
+    locked = np.bool_(False)
     x_c = 0.0
     gear = int(round(inputs[IN_GEAR_LEVER]))  # start in the lever gear (driver selected it before)
     gear_target = gear
@@ -227,9 +227,9 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
     p_ctrl = hand_valve_control_pressure_pa(inputs[IN_HAND_VALVE], p_s)
     p_sp = p_ctrl
     p_sb = inputs[IN_BRAKE_PEDAL]  # service brake chamber level, 0..1 of full
-    n_events = 0
-    n_rec = 0
-    tick = 0
+    n_events = np.int64(0)  # np.int64, not 0: a literal 0 makes numba compile callees twice
+    n_rec = np.int64(0)
+    tick = np.int64(0)
     t_c = 0.0
     f_t = 0.0
     f_roll = 0.0
@@ -487,7 +487,7 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
         locked = locked_new
         if not stalled and w_e < p.engine_stall_speed_radps:
             stalled = True
-            locked = False
+            locked = np.bool_(False)
             n_events = log_event(events, n_events, t + dt, M_ENGINE, 0, 1, 0)
         x_c = actuator_step(x_c, clutch_cmd, p.clutch_actuator_time_constant_s,
                             p.clutch_actuator_max_rate_per_s, dt)
@@ -497,7 +497,7 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
         if gear != old_gear:
             if gear == 0:
                 n_events = log_event(events, n_events, t + dt, M_GEARBOX, 0, 1, 0)
-                locked = False
+                locked = np.bool_(False)
             else:
                 n_events = log_event(events, n_events, t + dt, M_GEARBOX, 1, 0, 1)
                 w_in = v * gear_ratio(p.gearbox_ratios, len(p.gearbox_ratios), gear) * i0 / r  # synchroniser

@@ -71,7 +71,7 @@ VALVE_FAULTS = {"none": VALVE_OK, "unpowered": VALVE_STUCK_DEENERGIZED,
                 "stuck_deenergized": VALVE_STUCK_DEENERGIZED, "stuck_energized": VALVE_STUCK_ENERGIZED}
 
 
-@nb.njit(cache=True, nogil=True, error_model="numpy")
+@nb.njit(nb.float64(nb.float64, nb.int64), cache=True, nogil=True, error_model="numpy")
 def valve_32_position(command_energized, fault):
     """Actual spool position (1 = energised) from the command and the valve's fault state."""
     if fault == VALVE_STUCK_DEENERGIZED:
