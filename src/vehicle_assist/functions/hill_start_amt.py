@@ -18,7 +18,8 @@ and the engine so that the truck neither rolls back nor stalls, with little clut
   guard, and backing off past the holding torque rolled the empty truck back 0.24-1.1 m).
 * **Small reverse growth (P6).** While the truck stands on the releasing park brake, the clutch engages
   no deeper than ``phase3_torque_frac`` x the estimated holding torque (the park force then grows only a
-  little in reverse); the limit is lifted as soon as the truck moves either way. Without it the law
+  little in reverse); the limit is lifted as soon as the truck moves either way or the park lamp goes
+  out (the park brake has let go: the holding-torque estimate was too low). Without it the law
   kept engaging to twice the holding torque, the truck leapt when the brake let go, the engine was
   pulled into the guard and the back-off rolled the empty truck back 1.1 m at 6.5 bar.
 * **Release instant (P6, P12, P14).** The valve is de-energised (chambers start to fill, if the driver
@@ -119,6 +120,7 @@ STATE_DTYPE = np.dtype([
     ("release_commanded_flag", "f8"),
     ("mode_time_s", "f8"),                   # time in the current mode
     ("stand_down_action", "f8"),             # STAND_DOWN_PASSIVE / _HOLD / _DRIVE_ON
+    ("hand_valve_was_released_flag", "f8"),  # for the 'hand valve moved to park' edge
 ])
 STAND_DOWN_PASSIVE, STAND_DOWN_HOLD, STAND_DOWN_DRIVE_ON = range(3)
 
@@ -130,11 +132,15 @@ def initial_state() -> np.recarray:
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def hold_torque_estimate_nm(mass_kg, grade_rad, rolling_coeff, wheel_radius_m, total_ratio):
-    """T_hold = m*g*(sin(alpha) + f*cos(alpha))*r_w/(i_g*i_0): clutch torque that holds the truck (6.2)."""
+def hold_torque_estimate_nm(mass_kg, grade_rad, rolling_coeff, wheel_radius_m, total_ratio, efficiency):
+    """T_hold = m*g*(sin(alpha) + f*cos(alpha))*r_w/(i_g*i_0*eta): clutch torque that holds the truck.
+
+    hill_start_amt.md 6.2 writes it without eta; with eta it is the torque the clutch must really carry
+    (the driveline loses 12 % on the way to the wheels)."""
     if total_ratio <= 0.0:
         return np.inf
-    return mass_kg * 9.81 * (math.sin(grade_rad) + rolling_coeff * math.cos(grade_rad)) * wheel_radius_m / total_ratio
+    return (mass_kg * 9.81 * (math.sin(grade_rad) + rolling_coeff * math.cos(grade_rad)) * wheel_radius_m
+            / (total_ratio * efficiency))
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -172,7 +178,8 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     if standing and m.longitudinal_accel_ok > 0.5:
         c.grade_estimate_rad = math.asin(min(max(m.longitudinal_accel_mps2 / 9.81, -1.0), 1.0))
     c.hold_torque_estimate_nm = hold_torque_estimate_nm(m.vehicle_mass_kg, c.grade_estimate_rad,
-                                                        p.body_rolling_resistance_coeff, p.body_wheel_radius_m, ratio)
+                                                        p.body_rolling_resistance_coeff, p.body_wheel_radius_m, ratio,
+                                                        p.gearbox_efficiency_frac)
 
     cap = clutch_capacity_nm(c.clutch_command_frac, p.clutch_max_torque_nm, p.clutch_kiss_point_frac,
                              p.clutch_capacity_exponent)
@@ -206,7 +213,8 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     g[G_SLIP_SMALL] = (abs(m.engine_speed_radps - m.input_shaft_speed_radps) <= p.hill_start_assist_lockup_slip_radps
                        and m.vehicle_speed_mps > p.hill_start_assist_moving_speed_mps)
     g[G_CLOSED] = c.clutch_command_frac >= 1.0
-    g[G_TAKES_OVER] = brake_applied or m.hand_valve_released_flag < 0.5
+    # the driver takes over by braking, or by moving the hand valve back to park (an action, not a state)
+    g[G_TAKES_OVER] = brake_applied or (c.hand_valve_was_released_flag > 0.5 and m.hand_valve_released_flag < 0.5)
 
     mode = int(c.mode)
     new_mode, guard = next_mode(TABLE, mode, g)
@@ -230,6 +238,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     else:
         c.mode_time_s += dt
     c.brake_was_applied_flag = 1.0 if brake_applied else 0.0
+    c.hand_valve_was_released_flag = 1.0 if m.hand_valve_released_flag > 0.5 else 0.0
 
     # outputs: 3/2 valve and clutch command
     x = c.clutch_command_frac
@@ -267,8 +276,10 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
                                                             p.clutch_kiss_point_frac, p.clutch_capacity_exponent))
         x = max(x + engagement_rate_per_s(p, m.engine_speed_radps, c.engine_speed_rate_radps2) * dt, min(floor, x))
         # P6: keep the reverse growth of the park force small. While the truck still stands on the releasing
-        # park brake, engage no deeper than k x the holding torque; if it rolls back, the limit is lifted.
-        if abs(m.vehicle_speed_mps) < p.hill_start_assist_moving_speed_mps and m.vehicle_speed_mps > -p.hill_start_assist_standstill_speed_mps:
+        # park brake, engage no deeper than k x the holding torque; lifted if it moves or the lamp goes out
+        # (only while the park brake still holds: once the lamp is out the estimate was too low, engage on)
+        if (park_applied and abs(m.vehicle_speed_mps) < p.hill_start_assist_moving_speed_mps
+                and m.vehicle_speed_mps > -p.hill_start_assist_standstill_speed_mps):
             ceiling = clutch_position_for_capacity(p.hill_start_assist_phase3_torque_frac * c.hold_torque_estimate_nm,
                                                    p.clutch_max_torque_nm, p.clutch_kiss_point_frac,
                                                    p.clutch_capacity_exponent)

@@ -3,7 +3,8 @@
     y_k = x(t_k - d) + bias + sigma*n_k,     n_k ~ N(0, 1) drawn before the run from the scenario seed
     delay d is a whole number of controller periods (rounded); a ring buffer keeps past samples.
 Faults (set by scenario events): 1 = lost (value 0, validity flag 0, like a CAN timeout),
-2 = stuck (holds the last value, flag still 1: undetectable by plausibility alone),
+2 = stuck (holds the last value - the first sample if stuck from the start - flag still 1: undetectable
+by plausibility alone),
 3 = biased (adds the event's value to the bias).
 Controllers only ever see these measurements, never the plant state.
 """
@@ -36,7 +37,7 @@ def sample_sensors(truth, history, tick, noise_row, noise_std, bias, delay_ticks
         if f == FAULT_LOST:
             out_value[i] = 0.0
             out_ok[i] = 0.0
-        elif f == FAULT_STUCK:
+        elif f == FAULT_STUCK and tick > 0:
             out_value[i] = last[i]
             out_ok[i] = 1.0
         else:
