@@ -328,6 +328,7 @@ def constructed_cases() -> list[tuple[str, tuple[str, ...]]]:
         (FLAT_NORMAL, (brake_stop(6.0),)),                                           # NORMAL_START -> STANDBY
         (S2, (brake_stop(8.0),)),                                                    # DONE -> STANDBY
         (S1, (events_arg(sensor_fault("engine_speed", "lost", 2.5), set_input("brake_pedal", 1.0, 6.0)),)),  # STOOD_DOWN -> STANDBY
+        (S1, ('driver.gear_lever={time_s=[0.0], gear=["1"]}',)),                     # HOLD -> STOOD_DOWN grade_beyond...
     ]
 
 
@@ -365,6 +366,7 @@ def test_constructed_cases_hit_their_mode_windows() -> None:
         ("NORMAL_START", "STANDBY", "stopped_on_service_brake"),
         ("DONE", "STANDBY", "stopped_on_service_brake"),
         ("STOOD_DOWN", "STANDBY", "driver_takes_over"),
+        ("HOLD", "STOOD_DOWN", "grade_beyond_engine_torque"),
     ]
     cases = constructed_cases()
     assert len(cases) == len(expected)

@@ -114,3 +114,15 @@ def test_paper_000_in_reproduce_summary(tmp_path):
     assert len(ours) >= 16 * 6
     assert all(e["pass"] for e in ours)
     assert {"paper", "scenario", "criterion", "value", "unit", "bound", "pass"} <= set(ours[0])
+
+
+def test_assist_refuses_a_grade_beyond_the_engine():
+    """30 t on 14 deg in 1st gear needs ~1080 N*m at the clutch, more than 90 % of the engine's 1013 N*m
+    (hill_start_amt.md 7.1: 'near the engine limit, which is why the crawler gear is used'): the assist
+    stands down with that reason and keeps the park brake applied: no rollback, no stall, v == 0 exactly."""
+    r = va.simulate(va.load_scenario("hsa_truck_full_14deg_80bar", ['driver.gear_lever={time_s=[0.0], gear=["1"]}']))
+    reasons = [e.reason for e in r.events if e.machine == "hill_start_amt" and e.to_mode == "STOOD_DOWN"]
+    assert reasons == ["grade_beyond_engine_torque"]
+    assert (r.trace["speed_mps"] == 0.0).all()
+    assert r.metrics["engine_stalled_flag"] == 0.0
+    assert (r.trace["valve_32_energized_flag"][r.trace["time_s"] > 1.1] == 1.0).all()

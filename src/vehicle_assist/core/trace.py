@@ -131,8 +131,11 @@ class Trace:
         return df
 
     def row(self, i: int) -> "Trace":
-        """Run ``i`` of a batch trace as a trace of its own (views, no copies)."""
-        return Trace({n: (v[i] if np.ndim(v) == 2 else v) for n, v in self.channels.items()}, self.descriptions, self.meta)
+        """Run ``i`` of a batch trace as a trace of its own (views, no copies, no re-validation)."""
+        out = object.__new__(Trace)
+        out.channels = {n: (v[i] if np.ndim(v) == 2 else v) for n, v in self.channels.items()}
+        out.descriptions, out.meta, out.events = self.descriptions, self.meta, []
+        return out
 
     def select(self, names: list[str]) -> "Trace":
         keep = ["time_s"] + [n for n in names if n != "time_s"]

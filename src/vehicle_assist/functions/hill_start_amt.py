@@ -37,6 +37,7 @@ and the engine so that the truck neither rolls back nor stalls, with little clut
   | engine speed lost before the release command | hold: valve stays energised (park brake applied), clutch opens |
   | engine speed lost after the release command (the park force may already be falling) | drive on, at the slow engagement rate (no engine-speed feedback) |
   | park brake not released (stuck valve, lamp still on after the timeout, truck standing) | hold: clutch opens against the applied park brake |
+  | grade beyond the engine: estimated holding torque above 90 % of the engine's peak torque (e.g. 30 t on 14 deg in 1st gear, or on 25 deg) | hold: the park brake stays applied; the driver must choose a lower gear or give up |
 
   It stays stood down until the driver takes over (service brake pressed or hand valve to park), or
   until a drive-on closes the clutch.
@@ -67,6 +68,7 @@ MACHINE = StateMachine(
         Transition("STANDBY", "NORMAL_START", "service_brake_released_without_park_brake"),
         Transition("NORMAL_START", "STANDBY", "stopped_on_service_brake"),
         # faults during the start
+        Transition("HOLD", "STOOD_DOWN", "grade_beyond_engine_torque"),
         Transition("HOLD", "STOOD_DOWN", "valve_not_holding"),
         Transition("APPROACH", "STOOD_DOWN", "valve_not_holding"),
         Transition("ENGAGE_HELD", "STOOD_DOWN", "valve_not_holding"),
@@ -94,13 +96,14 @@ MACHINE = StateMachine(
 TABLE = MACHINE.table()
 (STANDBY, NORMAL_START, HOLD, APPROACH, ENGAGE_HELD, ENGAGE_RELEASING, LOCKUP, DONE, STOOD_DOWN) = range(9)
 GUARDS = MACHINE.guards
-(G_SWITCH_FAILED, G_RESERVOIR_LOW, G_ENGINE_LOST_ENTRY, G_ENTRY, G_NORMAL, G_STOPPED, G_VALVE_NOT_HOLDING,
- G_ENGINE_LOST, G_NOT_RELEASED, G_DRIVER_BRAKES, G_ACCELERATOR, G_KISS, G_RELEASE, G_SLIP_SMALL, G_CLOSED,
- G_TAKES_OVER) = range(16)
+(G_SWITCH_FAILED, G_RESERVOIR_LOW, G_ENGINE_LOST_ENTRY, G_ENTRY, G_NORMAL, G_STOPPED, G_TOO_STEEP,
+ G_VALVE_NOT_HOLDING, G_ENGINE_LOST, G_NOT_RELEASED, G_DRIVER_BRAKES, G_ACCELERATOR, G_KISS, G_RELEASE,
+ G_SLIP_SMALL, G_CLOSED, G_TAKES_OVER) = range(17)
 assert GUARDS == (
     "park_switch_failed_at_entry", "reservoir_pressure_low_at_entry", "engine_speed_lost_at_entry",
     "service_brake_released_on_park_brake", "service_brake_released_without_park_brake",
-    "stopped_on_service_brake", "valve_not_holding", "engine_speed_lost", "park_brake_not_released",
+    "stopped_on_service_brake", "grade_beyond_engine_torque", "valve_not_holding", "engine_speed_lost",
+    "park_brake_not_released",
     "driver_brakes", "accelerator_pressed", "kiss_point_reached", "release_point_reached", "slip_small",
     "clutch_closed", "driver_takes_over",
 )
@@ -190,7 +193,11 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
         at_release_point = c.clutch_command_frac >= x_rel
     entry = brake_released_edge and standing and gear > 0
 
-    g = np.zeros(16, dtype=np.bool_)
+    engine_max_nm = 0.0
+    for i in range(int(p.engine_full_load_torque_n)):
+        engine_max_nm = max(engine_max_nm, p.engine_full_load_torque_y[i])
+
+    g = np.zeros(17, dtype=np.bool_)
     g[G_SWITCH_FAILED] = entry and m.park_lamp_ok < 0.5
     g[G_RESERVOIR_LOW] = entry and park_applied and (
         m.reservoir_pressure_ok < 0.5 or m.reservoir_pressure_pa < p.hill_start_assist_reservoir_min_pa)
@@ -198,6 +205,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     g[G_ENTRY] = entry and park_applied
     g[G_NORMAL] = entry and not park_applied
     g[G_STOPPED] = standing and brake_applied
+    g[G_TOO_STEEP] = c.hold_torque_estimate_nm > p.hill_start_assist_max_hold_torque_frac * engine_max_nm
     g[G_VALVE_NOT_HOLDING] = m.park_lamp_ok > 0.5 and not park_applied
     g[G_ENGINE_LOST] = not engine_ok
     # the park lamp should go out within the paper's Table-1 release time for the measured reservoir pressure

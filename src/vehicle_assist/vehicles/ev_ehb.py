@@ -165,7 +165,9 @@ def simulate(p, s, noise, meas, vcu, tr, events):
         signals[2] = t_m
         signals[3] = pressure
         stop = False
+        event_now = False
         if s.event_count > 0 and due_events(s, fired, t, signals, due):
+            event_now = True
             for e in range(int(s.event_count)):
                 if due[e]:
                     n_events = log_event(events, n_events, t, M_SCENARIO, 0, 1, e)
@@ -179,7 +181,10 @@ def simulate(p, s, noise, meas, vcu, tr, events):
                         fault_value[tgt] = s.event_value2[e]
                     elif act == ACT_STOP:
                         stop = True
-        driver_inputs(s, t, override_on, override_value, inputs)
+        if k % ctrl_every == 0 or event_now:
+            # the scripted driver acts at the sampling tick (100 Hz by default: far above human bandwidth;
+            # at every 1 ms step it cost a quarter of the run time), and at once when an event overrides it
+            driver_inputs(s, t, override_on, override_value, inputs)
 
         if k % ctrl_every == 0:
             truth[0] = v

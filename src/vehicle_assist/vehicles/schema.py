@@ -199,6 +199,7 @@ class HillStartAssist(Strict):
     release_position_frac: list[Frac] = Field(min_length=1, max_length=24)
     release_load_frac: Annotated[float, Field(gt=0, le=2)]
     phase3_torque_frac: Annotated[float, Field(ge=1, le=5)]
+    max_hold_torque_frac: Annotated[float, Field(gt=0, le=1.5)]
     approach_rate_per_s: Annotated[float, Field(gt=0, le=20)]
     engage_rate_fast_per_s: Annotated[float, Field(gt=0, le=5)]
     engage_rate_mid_per_s: Annotated[float, Field(gt=0, le=5)]

@@ -257,7 +257,9 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
         signals[3] = x_c
         signals[4] = p_sp
         stop = False
+        event_now = False
         if s.event_count > 0 and due_events(s, fired, t, signals, due):
+            event_now = True
             for e in range(int(s.event_count)):
                 if due[e]:
                     n_events = log_event(events, n_events, t, M_SCENARIO, 0, 1, e)
@@ -273,7 +275,10 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
                         stop = True
                     elif act == ACT_ACTUATOR_FAULT:
                         valve_fault = int(s.event_value[e])
-        driver_inputs(s, t, override_on, override_value, inputs)
+        if k % ctrl_every == 0 or event_now:
+            # the scripted driver acts at the sampling tick (100 Hz by default: far above human bandwidth;
+            # at every 1 ms step it cost a quarter of the run time), and at once when an event overrides it
+            driver_inputs(s, t, override_on, override_value, inputs)
 
         # 2. sample, then run the controllers on that sample
         if k % ctrl_every == 0:
