@@ -16,6 +16,7 @@ class Reproduction:
     scenarios: tuple[str, ...]
     figures: tuple[str, ...] = ("overview", "forces")  # plot kinds (report.plots.FIGURES)
     figure_scenarios: tuple[str, ...] | None = None  # which scenarios get figures (None: all)
+    extras: tuple[str, ...] = ()  # further studies (EXTRAS below), each adding figures and criteria
 
 
 HSA_MATRIX = tuple(f"hsa_truck_{load}_{slope}deg_{bar}bar" for load in ("empty", "full") for slope in (11, 14)
@@ -35,11 +36,33 @@ REPRODUCTIONS: list[Reproduction] = [
                           "truck_11deg_late_release"),
     ),
     Reproduction(
-        "examples",
-        "Example scenario of the EV (paper 001 not yet implemented): a baseline that must show the failure",
-        ("ev_5deg_hold_and_pull_away",),
+        "001",
+        "Hill-start assist, electric car with EHB (Tan, Huang, Yu, Shu): the paper's 5 deg case, flat road, "
+        "10 deg, a hesitating driver, the negative controls, the baseline without the assist, and the calibration map",
+        ("hsa_ev_5deg_paper", "hsa_ev_flat", "hsa_ev_10deg", "hsa_ev_5deg_hesitating", "hsa_ev_5deg_release_too_fast",
+         "hsa_ev_5deg_step_pedal", "ev_5deg_hold_and_pull_away"),
+        figures=("hill_start_ehb",),
+        figure_scenarios=("hsa_ev_5deg_paper", "hsa_ev_5deg_hesitating", "hsa_ev_5deg_release_too_fast",
+                          "ev_5deg_hold_and_pull_away"),
+        extras=("ehb_sweep",),
     ),
 ]
+
+
+def ehb_sweep_extra(out_dir):
+    """Calibration map of paper 001: figure, and the criterion 'no rollback anywhere on the map'."""
+    from vehicle_assist.procedures.ehb_sweep import run_ehb_sweep
+
+    figure, table, summary = run_ehb_sweep(out_dir)
+    entry = {"paper": "001", "scenario": f"ehb_sweep ({summary['variants']} variants: slope 0-20 deg x mass x accelerator rate)",
+             "criterion": "max rollback_distance_m over the map", "negative_control": False,
+             "value": summary["max_rollback_m"], "unit": "m", "bound": "<= 0.01", "pass": summary["max_rollback_m"] <= 0.01,
+             "why": f"the assist holds everywhere on the map (table: {table.name}); "
+                    f"filtered jerk within 0.1 m/s^3 in {100 * summary['jerk_ok_frac']:.0f} % of the variants"}
+    return [("paper 001: calibration map (max rollback, max jerk)", figure)], [entry]
+
+
+EXTRAS = {"ehb_sweep": ehb_sweep_extra}
 
 
 def register(reproduction: Reproduction) -> None:

@@ -8,7 +8,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table as RichTable
 
 from vehicle_assist.io.results import write_json, write_trace_parquet
-from vehicle_assist.procedures.reproduce import REPRODUCTIONS
+from vehicle_assist.procedures.reproduce import EXTRAS, REPRODUCTIONS
 from vehicle_assist.report.html import write_reproduce_page
 from vehicle_assist.report.plots import FIGURES
 from vehicle_assist.scenarios.loader import load_scenario
@@ -50,6 +50,12 @@ def run_reproductions(out: Path, console: Console | None = None) -> list[dict]:
                     "why": c.why,
                 })
             progress.advance(task)
+        for rep in REPRODUCTIONS:
+            for extra in rep.extras:
+                progress.update(task, description=f"{rep.paper}: {extra}")
+                extra_figures, extra_entries = EXTRAS[extra](out / "studies")
+                figures.extend(extra_figures)
+                entries.extend(extra_entries)
     for rep in REPRODUCTIONS:
         table = RichTable(title=f"paper {rep.paper}: {rep.title}", title_justify="left")
         for col in ("scenario", "criterion", "value", "bound", "pass"):

@@ -227,3 +227,32 @@ def hill_start_png(trace: Trace, path: str | Path, title: str) -> Path:
 
 
 FIGURES = {"overview": overview_png, "forces": force_history_png, "hill_start": hill_start_png}
+
+
+# Paper 001 Fig. 8: brake force, brake pressure, speed and jerk against time.
+EHB_PANELS = (
+    Panel("Brake force (paper 001 Fig. 8a)", "force [kN]",
+          (Line("service_brake_force_n", "brake force on the car", _KN),
+           Line("service_brake_capacity_n", "brake force capacity", _KN, ":"),
+           Line("grade_force_estimate_n", "F_ang (assist)", _KN, "--"),
+           Line("torque_force_estimate_n", "F_tq (assist)", _KN, "--"))),
+    Panel("Brake pressure (Fig. 8b)", "pressure [bar]",
+          (Line("brake_pressure_pa", "EHB pressure", 1.0 / BAR_TO_PA),
+           Line("hsa_pressure_command_pa", "assist request", 1.0 / BAR_TO_PA, "--"))),
+    Panel("Vehicle speed (Fig. 8c)", "speed [km/h]", (Line("speed_mps", "speed", 1.0 / KPH_TO_MPS),),
+          right_ylabel="accelerator [0..1]", right_lines=(Line("accelerator_frac", "accelerator", 1.0, ":"),)),
+    Panel("Jerk, 5 Hz Butterworth (Fig. 8d)", "jerk [m/s^3]", (Line("jerk_filtered_mps3", "filtered jerk"),)),
+)
+
+
+def hill_start_ehb_png(trace: Trace, path: str | Path, title: str) -> Path:
+    """Paper 001 style (Fig. 8): brake force, brake pressure, speed and filtered jerk."""
+    from vehicle_assist.metrics.common import filtered_jerk
+
+    channels = dict(trace.channels)
+    channels["jerk_filtered_mps3"] = filtered_jerk(trace)
+    view = Trace(channels, trace.descriptions, trace.meta, trace.events)
+    return _render(view, [p for p in EHB_PANELS if p.present(view)], path, title)
+
+
+FIGURES["hill_start_ehb"] = hill_start_ehb_png

@@ -457,7 +457,18 @@ def build_scenario_record(sc: LoadedScenario, where: str) -> dict:
             from vehicle_assist.plant.brakes.pneumatic import VALVE_FAULTS
 
             ev["target"][i] = actuators.index(e.actuator)
-            ev["value"][i] = VALVE_FAULTS[e.fault]
+            extra = dict(e.model_extra or {})
+            if e.actuator == "ehb":
+                if e.fault != "limited" or "limit_bar" not in extra or not isinstance(extra["limit_bar"], (int, float)) \
+                        or not math.isfinite(float(extra["limit_bar"])) or float(extra["limit_bar"]) < 0:
+                    raise InputError(f"{where}: events.{i}: the ehb actuator fault is fault = \"limited\" with limit_bar = "
+                                     "a pressure >= 0 the EHB can still build")
+                ev["value"][i] = 1.0
+                ev["value2"][i] = float(extra["limit_bar"]) * 1e5
+            else:
+                if e.fault not in VALVE_FAULTS or extra:
+                    raise InputError(f"{where}: events.{i}: valve_32 faults are unpowered, stuck_deenergized or stuck_energized")
+                ev["value"][i] = VALVE_FAULTS[e.fault]
         elif e.action == "sensor_fault":
             if e.sensor not in names:
                 raise InputError(f"{where}: events.{i}.sensor = {e.sensor!r}: unknown sensor{did_you_mean(e.sensor, names)}; sensors: {', '.join(names)}")

@@ -181,7 +181,7 @@ class EventSpec(Strict):
     value: float | str | None = None
     sensor: str | None = None
     actuator: str | None = None
-    fault: Literal["lost", "stuck", "bias", "unpowered", "stuck_deenergized", "stuck_energized"] | None = None
+    fault: Literal["lost", "stuck", "bias", "unpowered", "stuck_deenergized", "stuck_energized", "limited"] | None = None
     model_config = ConfigDict(extra="allow", frozen=True, allow_inf_nan=False)  # bias_<unit>
 
     @model_validator(mode="after")
@@ -193,8 +193,9 @@ class EventSpec(Strict):
         if self.action == "sensor_fault" and (self.sensor is None or self.fault not in ("lost", "stuck", "bias")):
             raise ValueError("action 'sensor_fault' needs 'sensor' and 'fault' (lost, stuck or bias)")
         if self.action == "actuator_fault" and (
-                self.actuator is None or self.fault not in ("unpowered", "stuck_deenergized", "stuck_energized")):
-            raise ValueError("action 'actuator_fault' needs 'actuator' and 'fault' (unpowered, stuck_deenergized or stuck_energized)")
+                self.actuator is None or self.fault not in ("unpowered", "stuck_deenergized", "stuck_energized", "limited")):
+            raise ValueError("action 'actuator_fault' needs 'actuator' and 'fault' (valve_32: unpowered, stuck_deenergized, "
+                             "stuck_energized; ehb: limited with limit_bar)")
         return self
 
 

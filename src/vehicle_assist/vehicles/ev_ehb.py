@@ -17,7 +17,7 @@ import numpy as np
 
 from vehicle_assist.conventions import G_MPS2, STANDSTILL_SPEED_MPS
 from vehicle_assist.core.fsm import StateMachine, Transition, log_event
-from vehicle_assist.functions import ev_vcu
+from vehicle_assist.functions import ev_vcu, hill_start_ehb
 from vehicle_assist.plant.brakes.ehb import ehb_pressure_step
 from vehicle_assist.plant.brakes.hydraulic import brake_gain_nm_per_pa, piston_area_m2
 from vehicle_assist.plant.longitudinal import (
@@ -32,6 +32,7 @@ from vehicle_assist.plant.powertrain.gearbox import efficiency_factor
 from vehicle_assist.plant.powertrain.motor import motor_torque_step
 from vehicle_assist.plant.sensors import sample_sensors
 from vehicle_assist.vehicles.common import (
+    ACT_ACTUATOR_FAULT,
     ACT_SENSOR_FAULT,
     ACT_SET_INPUT,
     ACT_STOP,
@@ -61,7 +62,7 @@ SENSORS = (
 MEAS_DTYPE = np.dtype([(n, "f8") for n in SENSORS] + [(n.rsplit("_", 1)[0] + "_ok", "f8") for n in SENSORS])
 EVENT_SIGNALS = ("speed_mps", "position_m", "motor_torque_nm", "brake_pressure_pa")
 INPUTS = ("accelerator", "brake_pedal", "gear_lever")
-ACTUATORS: tuple[str, ...] = ()
+ACTUATORS: tuple[str, ...] = ("ehb",)  # actuator fault: ehb limited (limit_bar = ...)
 DEFAULT_GEAR_INDEX = 1  # D
 
 CHANNELS: dict[str, str] = {
@@ -86,6 +87,12 @@ CHANNELS: dict[str, str] = {
     "accelerator_frac": "driver accelerator pedal",
     "brake_pedal_frac": "driver brake pedal",
     "gear_index": "drive position (0 = N, 1 = D)",
+    "hsa_mode_index": "mode of the hill-start assist (see the hill_start_ehb state machine)",
+    "hsa_pressure_command_pa": "pressure requested by the hill-start assist",
+    "grade_force_estimate_n": "F_ang: grade force the assist estimates from the slope sensor",
+    "torque_force_estimate_n": "F_tq: drive force the assist credits to the motor",
+    "parking_brake_request_flag": "1 when the assist asks for the parking brake (maximum hold time reached)",
+    "warning_flag": "1 while the assist warns the driver (degraded)",
 }
 TRACE_DTYPE = np.dtype([(name, "f8") for name in CHANNELS])
 MACHINES = (
@@ -94,19 +101,25 @@ MACHINES = (
         Transition("MOVING", "HELD", "static_friction_holds"),
     )),
     ev_vcu.MACHINE,
+    hill_start_ehb.MACHINE,
 )
-M_VEHICLE, M_VCU = range(2)
+M_VEHICLE, M_VCU, M_HSA = range(3)
 M_SCENARIO = len(MACHINES)
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def simulate(p, s, noise, meas, vcu, tr, events):
+def simulate(p, s, noise, meas, vcu, hsa, tr, events):
     """Run one scenario; arguments as in :func:`vehicle_assist.vehicles.truck_amt.simulate`."""
     dt = s.plant_step_s
     n_steps = int(round(s.duration_s / dt))
     ctrl_every = max(1, int(round(s.controller_period_s / dt)))  # sensor sampling tick
     # each controller runs at its own ECU period, a whole number of sampling ticks
     vcu_every = max(1, int(round(p.vcu_period_s / s.controller_period_s)))
+    hsa_every = max(1, int(round(p.hill_start_assist_period_s / s.controller_period_s)))
+    hsa_enabled = p.hill_start_assist_enabled_flag > 0.5
+    hsa_active = False
+    pressure_command = 0.0
+    ehb_limit_pa = p.ehb_max_pressure_pa
     rec_every = max(1, int(round(s.record_period_s / dt)))
     n_sens = noise.shape[1]
     m_kg = p.body_mass_kg
@@ -145,6 +158,7 @@ def simulate(p, s, noise, meas, vcu, tr, events):
     # the driver's initial pedal has built its pressure before the run starts
     pressure = min(max(inputs[IN_BRAKE_PEDAL], 0.0), 1.0) * p.ehb_pedal_full_pressure_pa
     vcu.brake_pressure_command_pa = pressure
+    pressure_command = pressure
     slope = 0.0
     f_t = 0.0
     f_i = 0.0
@@ -181,6 +195,8 @@ def simulate(p, s, noise, meas, vcu, tr, events):
                         fault_value[tgt] = s.event_value2[e]
                     elif act == ACT_STOP:
                         stop = True
+                    elif act == ACT_ACTUATOR_FAULT:
+                        ehb_limit_pa = min(p.ehb_max_pressure_pa, s.event_value2[e])
         if k % ctrl_every == 0 or event_now:
             # the scripted driver acts at the sampling tick (100 Hz by default: far above human bandwidth;
             # at every 1 ms step it cost a quarter of the run time), and at once when an event overrides it
@@ -215,6 +231,12 @@ def simulate(p, s, noise, meas, vcu, tr, events):
             meas.gear_lever_ok = ok[7]
             if tick % vcu_every == 0:
                 n_events = ev_vcu.step(vcu, meas, p, p.vcu_period_s, t, M_VCU, events, n_events)
+            if hsa_enabled and tick % hsa_every == 0:
+                n_events = hill_start_ehb.step(hsa, meas, p, p.hill_start_assist_period_s, t, M_HSA, events, n_events)
+                hsa_active = hill_start_ehb.is_active(hsa)
+            # brake by wire: the larger of the driver's and the assist's pressure request
+            pressure_command = max(vcu.brake_pressure_command_pa, hsa.pressure_command_pa) if hsa_active \
+                else vcu.brake_pressure_command_pa
             tick += 1
 
         # forces at t from the state at t
@@ -255,7 +277,13 @@ def simulate(p, s, noise, meas, vcu, tr, events):
             row.motor_torque_nm = t_m
             row.motor_torque_request_nm = vcu.torque_request_nm
             row.brake_pressure_pa = pressure
-            row.brake_pressure_command_pa = vcu.brake_pressure_command_pa
+            row.brake_pressure_command_pa = pressure_command
+            row.hsa_mode_index = hsa.mode if hsa_enabled else -1.0
+            row.hsa_pressure_command_pa = hsa.pressure_command_pa
+            row.grade_force_estimate_n = hsa.grade_force_n
+            row.torque_force_estimate_n = hsa.torque_force_n
+            row.parking_brake_request_flag = hsa.parking_brake_request_flag
+            row.warning_flag = hsa.warning_flag
             row.accelerator_frac = inputs[IN_ACCELERATOR]
             row.brake_pedal_frac = inputs[IN_BRAKE_PEDAL]
             row.gear_index = round(inputs[IN_GEAR_LEVER])
@@ -270,8 +298,8 @@ def simulate(p, s, noise, meas, vcu, tr, events):
         x += v * dt
         t_m = motor_torque_step(t_m, vcu.torque_request_nm, v * i0 / r, p.motor_max_torque_nm, p.motor_max_power_w,
                                 p.motor_time_constant_s, dt)
-        pressure = ehb_pressure_step(pressure, vcu.brake_pressure_command_pa, p.ehb_time_constant_s,
-                                     p.ehb_build_rate_pa_per_s, p.ehb_release_rate_pa_per_s, p.ehb_max_pressure_pa, dt)
+        pressure = ehb_pressure_step(pressure, pressure_command, p.ehb_time_constant_s,
+                                     p.ehb_build_rate_pa_per_s, p.ehb_release_rate_pa_per_s, ehb_limit_pa, dt)
     return n_rec, n_events
 
 
@@ -293,9 +321,9 @@ def derived(flat: dict) -> dict:
 
 def controller_states() -> tuple:
     meas = np.zeros(1, dtype=MEAS_DTYPE).view(np.recarray)
-    return meas[0], ev_vcu.initial_state()[0]
+    return meas[0], ev_vcu.initial_state()[0], hill_start_ehb.initial_state()[0]
 
 
 def run_kernel(p, s, noise, trace, events):
-    meas, vcu = controller_states()
-    return simulate(p, s, noise, meas, vcu, trace, events)
+    meas, vcu, hsa = controller_states()
+    return simulate(p, s, noise, meas, vcu, hsa, trace, events)

@@ -228,6 +228,31 @@ class HillStartAssist(Strict):
         return self
 
 
+class HillStartEhb(Strict):
+    """Hill-start assist of paper 001 (functions/hill_start_ehb.py; hill_start_ehb.md 2-3)."""
+
+    enabled_flag: Annotated[int, Field(ge=0, le=1)]
+    period_s: Annotated[float, Field(ge=1e-4, le=0.1)]
+    release_mode: Literal["follow_torque", "immediate"]
+    assumed_mass_kg: Annotated[float, Field(ge=100, le=100000)]
+    wheel_radius_m: Annotated[float, Field(ge=0.1, le=1.5)]
+    brake_gain_nm_per_bar: Annotated[float, Field(gt=0, le=10000)]
+    rolling_resistance_coeff: Annotated[float, Field(ge=0, le=0.2)]
+    rotating_mass_factor: Annotated[float, Field(ge=1, le=3)]
+    hold_safety_frac: Annotated[float, Field(ge=1, le=3)]
+    margin_rolling_frac: Annotated[float, Field(ge=0, le=2)]
+    slope_min_deg: Annotated[float, Field(ge=0, le=10)]
+    accelerator_on_frac: Annotated[float, Field(gt=0, le=1)]
+    start_speed_mps: Annotated[float, Field(ge=0, le=2)]
+    standstill_speed_mps: Annotated[float, Field(gt=0, le=1)]
+    brake_applied_frac: Annotated[float, Field(gt=0, le=1)]
+    jerk_max_mps3: Annotated[float, Field(gt=0, le=10)]
+    max_hold_time_s: Annotated[float, Field(gt=0, le=3600)]
+    settle_time_s: Annotated[float, Field(gt=0, le=10)]
+    rollback_speed_mps: Annotated[float, Field(gt=0, le=1)]
+    rollback_gain_n_per_s: Annotated[float, Field(ge=0, le=1e7)]
+
+
 class Vcu(Strict):
     """EV vehicle control unit (functions/ev_vcu.py)."""
 
@@ -267,13 +292,15 @@ class EvEhb(Strict):
     brakes: HydraulicBrakes
     ehb: Ehb
     vcu: Vcu
+    hill_start_assist: HillStartEhb
 
 
 LAYOUTS: dict[str, type[Strict]] = {"truck_amt": TruckAmt, "ev_ehb": EvEhb}
 TABLE_KEYS = {"full_load_torque": ("speed_rpm", "torque_nm"), "pedal_map": ("accelerator_frac", "torque_nm"),
               "release_time": ("reservoir_pressure_bar", "release_time_s")}
 NON_NUMERIC = {"gear_names"}
-CODES = {"release_mode": {"preset_position": 0.0, "load_adaptive": 1.0}}  # string choices -> kernel codes
+CODES = {"release_mode": {"preset_position": 0.0, "load_adaptive": 1.0,   # truck (hill_start_amt)
+                          "follow_torque": 0.0, "immediate": 1.0}}        # EV (hill_start_ehb)
 
 
 def flatten_vehicle(model: Strict) -> dict[str, float | Table | np.ndarray]:

@@ -1,0 +1,102 @@
+"""Metrics of the EV hill start with EHB (paper 001, hill_start_ehb.md section 5), vectorised over runs.
+
+* ``hold_pressure_ratio``: lowest measured/commanded pressure while the assist holds (HOLD), counted from
+  the EHB settling time (0.25 s = 5 tau_ehb) after entering HOLD; criterion 3 asks >= 0.95.
+* ``residual_pressure_at_p2_pa``: brake pressure at the first sample where the drive force reaches the
+  grade resistance (point P2 of the paper's Fig. 3); the paper asks it to be non-zero (P4).
+* ``release_after_start_s``: from the first sample with v > 0.05 m/s to the brake pressure below
+  0.1 bar (criterion 5 asks <= 2 s).
+* ``hold_entered_flag``: 1 if the assist entered HOLD (criterion 7: never on a level road).
+* ``pressure_reapply_pa``: largest rise of the brake pressure over its running minimum while the
+  assist follows the torque (criterion 8: a hesitating driver makes it re-apply).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from vehicle_assist.core.trace import Trace
+from vehicle_assist.functions import hill_start_ehb as H
+from vehicle_assist.metrics.common import Metric, register
+
+SETTLE_S = 0.25  # 5 x tau_ehb (hill_start_ehb.md 5, criterion 3)
+START_SPEED_MPS = 0.05  # v_start (hill_start_ehb.md 3)
+RELEASED_PA = 0.1e5  # "p < 0.1 bar" (criterion 5)
+
+
+def _ch(trace: Trace, name: str) -> np.ndarray:
+    return np.atleast_2d(np.asarray(trace[name], dtype=np.float64))
+
+
+def _out(values: np.ndarray, trace: Trace):
+    return values if trace.batch_size is not None else float(values[0]) + 0.0
+
+
+def _first(mask: np.ndarray):
+    return np.argmax(mask, axis=-1), mask.any(axis=-1)
+
+
+def _take(values: np.ndarray, index: np.ndarray) -> np.ndarray:
+    return values[np.arange(len(index)), index]
+
+
+def hold_pressure_ratio(trace: Trace):
+    """min(p / p_cmd) over HOLD samples at least SETTLE_S after entering HOLD (NaN if never held)."""
+    t = np.asarray(trace["time_s"], dtype=np.float64)
+    mode = _ch(trace, "hsa_mode_index")
+    hold = mode == H.HOLD
+    i0, found = _first(hold)
+    settled = hold & (t[None, :] >= t[i0][:, None] + SETTLE_S)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = _ch(trace, "brake_pressure_pa") / _ch(trace, "hsa_pressure_command_pa")
+    ratio = np.where(settled, ratio, np.inf)
+    best = np.min(ratio, axis=-1)
+    return _out(np.where(found & settled.any(axis=-1), best, np.nan), trace)
+
+
+def residual_pressure_at_p2_pa(trace: Trace):
+    """Brake pressure when the drive force first reaches the grade resistance (P2)."""
+    f_t, f_i = _ch(trace, "drive_force_n"), _ch(trace, "grade_resistance_n")
+    f_t, f_i = np.broadcast_arrays(f_t, f_i)
+    i, found = _first((f_t >= f_i) & (f_i > 0.0))
+    p = np.broadcast_to(_ch(trace, "brake_pressure_pa"), f_t.shape)
+    return _out(np.where(found, _take(p, i), np.nan), trace)
+
+
+def release_after_start_s(trace: Trace):
+    """Time from v > v_start to brake pressure < 0.1 bar (0 if already released; NaN if never)."""
+    t = np.asarray(trace["time_s"], dtype=np.float64)
+    v, p = _ch(trace, "speed_mps"), _ch(trace, "brake_pressure_pa")
+    i_start, started = _first(v > START_SPEED_MPS)
+    after = np.arange(v.shape[1])[None, :] >= i_start[:, None]
+    i_rel, released = _first((p < RELEASED_PA) & after)
+    return _out(np.where(started & released, t[i_rel] - t[i_start], np.nan), trace)
+
+
+def hold_entered_flag(trace: Trace):
+    """1 if the assist held the car at any sample, else 0."""
+    return _out((_ch(trace, "hsa_mode_index") == H.HOLD).any(axis=-1).astype(float), trace)
+
+
+def pressure_reapply_pa(trace: Trace):
+    """Largest rise of the pressure above its running minimum while the assist follows the torque."""
+    mode, p = _ch(trace, "hsa_mode_index"), _ch(trace, "brake_pressure_pa")
+    follow = mode == H.FOLLOW
+    masked = np.where(follow, p, np.inf)
+    running_min = np.minimum.accumulate(masked, axis=-1)
+    rise = np.where(follow & np.isfinite(running_min), p - running_min, 0.0)
+    return _out(np.max(rise, axis=-1), trace)
+
+
+for _m in (
+    Metric("hold_pressure_ratio", hold_pressure_ratio, ("time_s", "hsa_mode_index", "brake_pressure_pa", "hsa_pressure_command_pa"),
+           "lowest pressure / hold command while the EV assist holds (after settling)"),
+    Metric("residual_pressure_at_p2_pa", residual_pressure_at_p2_pa, ("drive_force_n", "grade_resistance_n", "brake_pressure_pa"),
+           "brake pressure when the drive force first reaches the grade resistance (P2 of paper 001)"),
+    Metric("release_after_start_s", release_after_start_s, ("time_s", "speed_mps", "brake_pressure_pa"),
+           "from v > 0.05 m/s to brake pressure < 0.1 bar"),
+    Metric("hold_entered_flag", hold_entered_flag, ("hsa_mode_index", "brake_pressure_command_pa"),
+           "1 if the EV hill-start assist held the car"),
+    Metric("pressure_reapply_pa", pressure_reapply_pa, ("hsa_mode_index", "brake_pressure_pa", "brake_pressure_command_pa"),
+           "largest re-application of brake pressure while following the torque"),
+):
+    register(_m)
