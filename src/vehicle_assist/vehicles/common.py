@@ -8,6 +8,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from vehicle_assist.core.fsm import log_event
 from vehicle_assist.core.tables import interp
 
 # driver inputs (index into the override arrays)
@@ -69,3 +70,43 @@ def due_events(s, fired, t, signals, due):
             fired[i] = True
             any_due = True
     return any_due
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def sensor_delay_buffers(s, n_sensors):
+    """Ring buffer for the sensor delays of the scenario (whole sampling ticks) and each sensor's delay."""
+    delay_ticks = np.zeros(n_sensors)
+    depth = 1
+    for i in range(n_sensors):
+        delay_ticks[i] = round(s.sensor_delay_s[i] / s.controller_period_s)
+        depth = max(depth, int(delay_ticks[i]) + 1)
+    return np.zeros((n_sensors, depth)), delay_ticks
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def apply_events(s, fired, due, t, signals, events, n_events, machine_id, override_on, override_value,
+                 sensor_fault, sensor_fault_value, actuator_fault):
+    """Fire the scenario events due at ``t``: driver-input overrides, sensor faults, actuator faults
+    (``actuator_fault[target] = (code, value)``, read by the vehicle composition) and stop.
+
+    Returns (n_events, any event fired, stop requested)."""
+    if s.event_count <= 0 or not due_events(s, fired, t, signals, due):
+        return n_events, False, False
+    stop = False
+    for e in range(int(s.event_count)):
+        if due[e]:
+            n_events = log_event(events, n_events, t, machine_id, 0, 1, e)
+            act = int(s.event_action[e])
+            tgt = int(s.event_target[e])
+            if act == ACT_SET_INPUT:
+                override_on[tgt] = True
+                override_value[tgt] = s.event_value[e]
+            elif act == ACT_SENSOR_FAULT:
+                sensor_fault[tgt] = s.event_value[e]
+                sensor_fault_value[tgt] = s.event_value2[e]
+            elif act == ACT_ACTUATOR_FAULT:
+                actuator_fault[tgt, 0] = s.event_value[e]
+                actuator_fault[tgt, 1] = s.event_value2[e]
+            elif act == ACT_STOP:
+                stop = True
+    return n_events, True, stop

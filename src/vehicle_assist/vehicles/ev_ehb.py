@@ -32,17 +32,14 @@ from vehicle_assist.plant.powertrain.gearbox import efficiency_factor
 from vehicle_assist.plant.powertrain.motor import motor_torque_step
 from vehicle_assist.plant.sensors import sample_sensors
 from vehicle_assist.vehicles.common import (
-    ACT_ACTUATOR_FAULT,
-    ACT_SENSOR_FAULT,
-    ACT_SET_INPUT,
-    ACT_STOP,
     EVENT_CAPACITY,
     IN_ACCELERATOR,
     IN_BRAKE_PEDAL,
     IN_GEAR_LEVER,
+    apply_events,
     driver_inputs,
-    due_events,
     road_at,
+    sensor_delay_buffers,
 )
 
 LAYOUT = "ev_ehb"
@@ -136,13 +133,8 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
     signals = np.zeros(4)
     driver_inputs(s, 0.0, override_on, override_value, inputs)
 
-    depth = 1
-    for i in range(n_sens):
-        depth = max(depth, int(round(s.sensor_delay_s[i] / s.controller_period_s)) + 1)
-    history = np.zeros((n_sens, depth))
-    delay_ticks = np.zeros(n_sens)
-    for i in range(n_sens):
-        delay_ticks[i] = round(s.sensor_delay_s[i] / s.controller_period_s)
+    history, delay_ticks = sensor_delay_buffers(s, n_sens)
+    actuator_fault = np.zeros((max(1, len(ACTUATORS)), 2))  # (fault code, value) per actuator
     fault = np.zeros(n_sens)
     fault_value = np.zeros(n_sens)
     last = np.zeros(n_sens)
@@ -178,25 +170,11 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
         signals[1] = x
         signals[2] = t_m
         signals[3] = pressure
-        stop = False
-        event_now = False
-        if s.event_count > 0 and due_events(s, fired, t, signals, due):
-            event_now = True
-            for e in range(int(s.event_count)):
-                if due[e]:
-                    n_events = log_event(events, n_events, t, M_SCENARIO, 0, 1, e)
-                    act = int(s.event_action[e])
-                    tgt = int(s.event_target[e])
-                    if act == ACT_SET_INPUT:
-                        override_on[tgt] = True
-                        override_value[tgt] = s.event_value[e]
-                    elif act == ACT_SENSOR_FAULT:
-                        fault[tgt] = s.event_value[e]
-                        fault_value[tgt] = s.event_value2[e]
-                    elif act == ACT_STOP:
-                        stop = True
-                    elif act == ACT_ACTUATOR_FAULT:
-                        ehb_limit_pa = min(p.ehb_max_pressure_pa, s.event_value2[e])
+        n_events, event_now, stop = apply_events(s, fired, due, t, signals, events, n_events, M_SCENARIO, override_on,
+                                                 override_value, fault, fault_value, actuator_fault)
+        if event_now:
+            if actuator_fault[0, 0] > 0.0:
+                ehb_limit_pa = min(p.ehb_max_pressure_pa, actuator_fault[0, 1])
         if k % ctrl_every == 0 or event_now:
             # the scripted driver acts at the sampling tick (100 Hz by default: far above human bandwidth;
             # at every 1 ms step it cost a quarter of the run time), and at once when an event overrides it
