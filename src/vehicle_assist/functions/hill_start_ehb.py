@@ -80,6 +80,7 @@ STATE_DTYPE = np.dtype([
     ("hold_time_s", "f8"),
     ("mode_time_s", "f8"),
     ("parking_brake_request_flag", "f8"),
+    ("slope_checked_flag", "f8"),          # next_1 fires once per brake application (no IDLE/SLOPE_CHECK flapping)
     ("warning_flag", "f8"),
 ])
 
@@ -109,10 +110,14 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     if standing and m.longitudinal_accel_ok > 0.5 and (mode == IDLE or mode == SLOPE_CHECK):
         c.grade_estimate_rad = math.asin(min(max(m.longitudinal_accel_mps2 / g_acc, -1.0), 1.0))
     gamma = c.grade_estimate_rad
-    # a car rolling back while held: the grade force was under-estimated -> raise it at once
-    if (mode == HOLD or mode == FOLLOW or mode == DEGRADED) and m.vehicle_speed_mps < -p.hill_start_assist_rollback_speed_mps:
+    # a car rolling back while held: the grade force was under-estimated -> raise it at once; only while
+    # the EHB delivers what is asked (a pressure it cannot build is not cured by asking more), and never
+    # beyond the car's weight
+    delivering = m.brake_pressure_ok > 0.5 and m.brake_pressure_pa >= 0.9 * c.pressure_command_pa
+    if ((mode == HOLD or mode == FOLLOW or mode == DEGRADED) and delivering
+            and m.vehicle_speed_mps < -p.hill_start_assist_rollback_speed_mps):
         c.rollback_correction_n += p.hill_start_assist_rollback_gain_n_per_s * dt
-    c.grade_force_n = mass * g_acc * math.sin(gamma) + c.rollback_correction_n
+    c.grade_force_n = min(mass * g_acc * math.sin(gamma) + c.rollback_correction_n, mass * g_acc)
     t_request = interp(p.motor_pedal_map_x, p.motor_pedal_map_y, p.motor_pedal_map_n, p.motor_pedal_map_extrap,
                        p.motor_pedal_map_interp, m.accelerator_frac)
     t_motor = m.motor_torque_nm if m.motor_torque_ok > 0.5 else 0.0
@@ -123,10 +128,13 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     pressure_ok = m.brake_pressure_ok > 0.5
 
     g = np.zeros(9, dtype=np.bool_)
-    g[G_NEXT1] = being_released and standing and m.gear_lever_index >= 1.0
+    g[G_NEXT1] = being_released and standing and m.gear_lever_index >= 1.0 and c.slope_checked_flag < 0.5
     g[G_NEXT2] = gamma >= p.hill_start_assist_slope_min_rad
     g[G_LEVEL] = gamma < p.hill_start_assist_slope_min_rad
-    g[G_DRIVER_BRAKES] = pressing
+    # the driver takes over once their own request carries what the assist holds (a light touch that would
+    # not hold the car does not end the hold: the EHB applies the larger of the two requests anyway)
+    driver_request_pa = m.brake_pedal_frac * p.ehb_pedal_full_pressure_pa
+    g[G_DRIVER_BRAKES] = pressing and driver_request_pa >= c.pressure_command_pa
     g[G_SENSOR_LOST] = not pressure_ok
     g[G_NOT_REACHED] = (pressure_ok and c.mode_time_s > p.hill_start_assist_settle_time_s
                         and m.brake_pressure_pa < 0.9 * c.pressure_command_pa)
@@ -147,6 +155,8 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
             c.warning_flag = 1.0
             c.parking_brake_request_flag = 1.0 if guard == G_MAX_HOLD else 0.0
         elif new_mode == IDLE:
+            if mode == SLOPE_CHECK:
+                c.slope_checked_flag = 1.0
             c.pressure_command_pa = 0.0
             c.rollback_correction_n = 0.0
             c.warning_flag = 0.0
@@ -155,13 +165,17 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
         c.mode_time_s += dt
     if new_mode == HOLD or new_mode == FOLLOW or new_mode == DEGRADED:
         c.hold_time_s += dt
+    if new_mode == DEGRADED and c.hold_time_s > p.hill_start_assist_max_hold_time_s:
+        c.parking_brake_request_flag = 1.0  # also when degraded for another reason first
+    if pressing:
+        c.slope_checked_flag = 0.0  # a new brake application re-arms next_1
     c.brake_pedal_prev_frac = m.brake_pedal_frac
 
     # pressure command
     p_cmd = c.pressure_command_pa
     if new_mode == HOLD:
         # from the driver's pressure to p_hold with the EHB dynamics, never through zero
-        p_cmd = c.hold_pressure_pa
+        p_cmd = min(c.hold_pressure_pa, p.ehb_max_pressure_pa)
     elif new_mode == FOLLOW or new_mode == DEGRADED:
         if int(p.hill_start_assist_release_mode) == RELEASE_IMMEDIATE:
             target = 0.0  # negative control of the spec (S5): release as soon as the pedal moves
@@ -176,7 +190,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
             max_drop = r / k_b * max(0.0, p.hill_start_assist_jerk_max_mps3 * p.hill_start_assist_rotating_mass_factor
                                      * mass - d_ft) * dt
             target = max(target, c.pressure_command_pa - max_drop)
-        p_cmd = target
+        p_cmd = min(target, p.ehb_max_pressure_pa)
     else:
         p_cmd = 0.0
     c.pressure_command_pa = p_cmd

@@ -164,6 +164,8 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
     tick = np.int64(0)
     m_eq = equivalent_mass_kg(m_kg, p.body_wheel_inertia_total_kgm2, r, p.motor_rotor_inertia_kgm2, i0, eta)
 
+    # the road at the start position, so that the first sensor sample reads the real grade
+    slope, f_coeff = road_at(s, x)
     for k in range(n_steps + 1):
         t = k * dt
         signals[0] = v

@@ -240,6 +240,8 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
     last_coeff = np.nan
     last_x_c = np.nan
 
+    # the road at the start position, so that the first sensor sample reads the real grade
+    slope, f_coeff = road_at(s, x)
     for k in range(n_steps + 1):
         t = k * dt
         # 1. scenario events, driver
