@@ -172,8 +172,11 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
         signals[1] = x
         signals[2] = t_m
         signals[3] = pressure
-        n_events, event_now, stop = apply_events(s, fired, due, t, signals, events, n_events, M_SCENARIO, override_on,
-                                                 override_value, fault, fault_value, actuator_fault)
+        event_now = False
+        stop = False
+        if s.event_count > 0:  # (a call per 1 ms step with 13 array arguments costs 40 % of the run time)
+            n_events, event_now, stop = apply_events(s, fired, due, t, signals, events, n_events, M_SCENARIO,
+                                                     override_on, override_value, fault, fault_value, actuator_fault)
         if event_now:
             if actuator_fault[0, 0] > 0.0:
                 ehb_limit_pa = min(p.ehb_max_pressure_pa, actuator_fault[0, 1])

@@ -250,8 +250,11 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
         signals[2] = w_e
         signals[3] = x_c
         signals[4] = p_sp
-        n_events, event_now, stop = apply_events(s, fired, due, t, signals, events, n_events, M_SCENARIO, override_on,
-                                                 override_value, fault, fault_value, actuator_fault)
+        event_now = False
+        stop = False
+        if s.event_count > 0:  # (a call per 1 ms step with 13 array arguments costs 40 % of the run time)
+            n_events, event_now, stop = apply_events(s, fired, due, t, signals, events, n_events, M_SCENARIO,
+                                                     override_on, override_value, fault, fault_value, actuator_fault)
         if event_now:
             valve_fault = int(actuator_fault[0, 0])
         if k % ctrl_every == 0 or event_now:
