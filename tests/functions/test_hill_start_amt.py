@@ -26,6 +26,7 @@ import numpy as np
 import pytest
 
 import vehicle_assist as va
+from tests.support import events_arg, machine_event, machine_rows, run, sensor_fault, set_input, valve_fault
 from vehicle_assist.functions.hill_start_amt import MACHINE
 from vehicle_assist.plant.brakes.pneumatic import (
     VALVE_FAULTS,
@@ -55,42 +56,18 @@ SHIPPED = sorted(os.path.basename(f)[:-5] for f in glob.glob(os.path.join(SCENAR
 
 
 # ------------------------------------------------------------------------------------------ helpers
-def events_arg(*items: str) -> str:
-    return "events=[" + ", ".join(items) + "]"
-
-
-def valve_fault(fault: str, at_s: float = 0.0) -> str:
-    return f'{{at_s={at_s:g}, action="actuator_fault", actuator="valve_32", fault="{fault}"}}'
-
-
-def sensor_fault(sensor: str, fault: str, at_s: float, extra: str = "") -> str:
-    return f'{{at_s={at_s:g}, action="sensor_fault", sensor="{sensor}", fault="{fault}"{extra}}}'
-
-
-def set_input(name: str, value: float, at_s: float) -> str:
-    return f'{{at_s={at_s:g}, action="set_input", input="{name}", value={value:g}}}'
 
 
 def accelerator_from(t_s: float, frac: float = 0.7) -> str:
     return f"driver.accelerator={{time_s=[0.0, {t_s:g}, {t_s + 0.5:g}], frac=[0.0, 0.0, {frac:g}]}}"
 
 
-@functools.lru_cache(maxsize=None)
-def run(name: str, *sets: str):
-    """Simulate a shipped scenario with overrides (cached: the row-coverage test reuses every run)."""
-    return va.simulate(va.load_scenario(name, list(sets)))
-
-
 def hsa_rows(r) -> list[tuple[str, str, str]]:
-    return [(e.from_mode, e.to_mode, e.reason) for e in r.events if e.machine == HSA]
+    return machine_rows(r, HSA)
 
 
 def hsa_event(r, to_mode: str, reason: str | None = None, from_mode: str | None = None):
-    for e in r.events:
-        if e.machine == HSA and e.to_mode == to_mode and (reason is None or e.reason == reason) \
-                and (from_mode is None or e.from_mode == from_mode):
-            return e
-    return None
+    return machine_event(r, HSA, to_mode, reason, from_mode)
 
 
 def mode_window(r, mode: str) -> tuple[float, float]:

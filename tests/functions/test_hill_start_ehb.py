@@ -29,7 +29,8 @@ import numpy as np
 import pytest
 
 import vehicle_assist as va
-from vehicle_assist.functions.hill_start_ehb import DEGRADED, FOLLOW, HOLD, IDLE, MACHINE
+from tests.support import ehb_limited, events_arg, machine_event, machine_rows, run, sensor_fault, set_input
+from vehicle_assist.functions.hill_start_ehb import DEGRADED, HOLD, IDLE, MACHINE
 from vehicle_assist.metrics.common import filtered_jerk
 from vehicle_assist.plant.longitudinal import aero_drag_n
 
@@ -50,38 +51,14 @@ BASELINE = "ev_5deg_hold_and_pull_away"
 
 
 # ------------------------------------------------------------------------------------------ helpers
-def events_arg(*items: str) -> str:
-    return "events=[" + ", ".join(items) + "]"
-
-
-def sensor_fault(sensor: str, fault: str, at_s: float, extra: str = "") -> str:
-    return f'{{at_s={at_s:g}, action="sensor_fault", sensor="{sensor}", fault="{fault}"{extra}}}'
-
-
-def ehb_limited(at_s: float, limit_bar: float = 5.0) -> str:
-    return f'{{at_s={at_s:g}, action="actuator_fault", actuator="ehb", fault="limited", limit_bar={limit_bar:g}}}'
-
-
-def set_input(name: str, value: float, at_s: float) -> str:
-    return f'{{at_s={at_s:g}, action="set_input", input="{name}", value={value:g}}}'
-
-
-@functools.lru_cache(maxsize=None)
-def run(name: str, *sets: str):
-    """Simulate a shipped scenario with overrides (cached: the row-coverage test reuses every run)."""
-    return va.simulate(va.load_scenario(name, list(sets)))
 
 
 def hsa_rows(r) -> list[tuple[str, str, str]]:
-    return [(e.from_mode, e.to_mode, e.reason) for e in r.events if e.machine == HSA]
+    return machine_rows(r, HSA)
 
 
 def hsa_event(r, to_mode: str, reason: str | None = None, from_mode: str | None = None):
-    for e in r.events:
-        if e.machine == HSA and e.to_mode == to_mode and (reason is None or e.reason == reason) \
-                and (from_mode is None or e.from_mode == from_mode):
-            return e
-    return None
+    return machine_event(r, HSA, to_mode, reason, from_mode)
 
 
 def rollback(r) -> float:
@@ -455,7 +432,6 @@ def test_criterion_10_drag_formula_units() -> None:
         assert plant == pytest.approx(0.5 * 1.2258 * drag_area * v * v, rel=1e-12)
         assert abs(plant - textbook) / textbook < 1e-3
     assert aero_drag_n(drag_area, -10.0) == pytest.approx(-aero_drag_n(drag_area, 10.0))  # opposes motion
-
 
 
 def test_no_idle_slope_check_flapping_on_a_level_road():

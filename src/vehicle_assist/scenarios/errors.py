@@ -26,7 +26,6 @@ def did_you_mean(word: str, options) -> str:
 
 def _model_at(model: type[BaseModel], loc: tuple) -> type[BaseModel] | None:
     """The pydantic model class that holds the field at ``loc`` (None if not a model)."""
-    import typing
 
     current: Any = model
     for part in loc:

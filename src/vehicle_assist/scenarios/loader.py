@@ -23,7 +23,7 @@ from vehicle_assist.scenarios.schema import Scenario
 from vehicle_assist.units import DEG_TO_RAD, KPH_TO_MPS, to_si
 from vehicle_assist.vehicles import layouts
 from vehicle_assist.vehicles.common import ACTIONS, EVENT_CAPACITY, INPUTS, OP_ABOVE, OP_BELOW
-from vehicle_assist.vehicles.schema import LAYOUTS, NON_NUMERIC, flatten_vehicle
+from vehicle_assist.vehicles.schema import LAYOUTS, flatten_vehicle
 
 DATA = resources.files("vehicle_assist") / "data"
 

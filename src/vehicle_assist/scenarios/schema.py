@@ -5,11 +5,11 @@ strictly increasing, every number finite, every key known. See docs/scenarios.md
 """
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from vehicle_assist.core.tables import Table
+from vehicle_assist.core.table_spec import TableSpec
 
 MAX_SLOPE_DEG = 45.0
 
@@ -24,50 +24,26 @@ Slope = Annotated[float, Field(ge=-MAX_SLOPE_DEG, le=MAX_SLOPE_DEG)]
 Distance = Annotated[float, Field(ge=-1e6, le=1e6)]
 
 
-def _check_table(xs: list, ys: list, x_name: str, y_name: str) -> None:
-    Table(x_name, y_name, tuple(float(v) for v in xs), tuple(float(v) if not isinstance(v, str) else 0.0 for v in ys))
-
-
-class SlopeTable(Strict):
+class SlopeTable(TableSpec):
     distance_m: list[Distance] = Field(min_length=1)
     slope_deg: list[Slope] = Field(min_length=1)
 
-    @model_validator(mode="after")
-    def _t(self):
-        _check_table(self.distance_m, self.slope_deg, "distance_m", "slope_deg")
-        return self
 
-
-class CoeffTable(Strict):
+class CoeffTable(TableSpec):
     distance_m: list[Distance] = Field(min_length=1)
     coeff: list[Annotated[float, Field(ge=0, le=0.2)]] = Field(min_length=1)
 
-    @model_validator(mode="after")
-    def _t(self):
-        _check_table(self.distance_m, self.coeff, "distance_m", "coeff")
-        return self
 
-
-class FrictionTable(Strict):
+class FrictionTable(TableSpec):
     distance_m: list[Distance] = Field(min_length=1)
     mu: list[Annotated[float, Field(ge=0, le=2)]] = Field(min_length=1)
 
-    @model_validator(mode="after")
-    def _t(self):
-        _check_table(self.distance_m, self.mu, "distance_m", "mu")
-        return self
 
-
-class RadiusTable(Strict):
+class RadiusTable(TableSpec):
     """Curve radius over distance (reserved for curve-aware shifting; validated, not yet simulated)."""
 
     distance_m: list[Distance] = Field(min_length=1)
     radius_m: list[Annotated[float, Field(ge=5)]] = Field(min_length=1)
-
-    @model_validator(mode="after")
-    def _t(self):
-        _check_table(self.distance_m, self.radius_m, "distance_m", "radius_m")
-        return self
 
 
 class Road(Strict):
@@ -87,44 +63,24 @@ class Road(Strict):
         return self
 
 
-class PedalTable(Strict):
+class PedalTable(TableSpec):
     time_s: list[Time] = Field(min_length=1)
     frac: list[Frac] = Field(min_length=1)
 
-    @model_validator(mode="after")
-    def _t(self):
-        _check_table(self.time_s, self.frac, "time_s", "frac")
-        return self
 
-
-class GearTable(Strict):
+class GearTable(TableSpec):
     time_s: list[Time] = Field(min_length=1)
     gear: list[str] = Field(min_length=1)
 
-    @model_validator(mode="after")
-    def _t(self):
-        _check_table(self.time_s, self.gear, "time_s", "gear")
-        return self
 
-
-class SwitchTable(Strict):
+class SwitchTable(TableSpec):
     time_s: list[Time] = Field(min_length=1)
     released: list[Annotated[int, Field(ge=0, le=1)]] = Field(min_length=1)
 
-    @model_validator(mode="after")
-    def _t(self):
-        _check_table(self.time_s, self.released, "time_s", "released")
-        return self
 
-
-class SteeringTable(Strict):
+class SteeringTable(TableSpec):
     time_s: list[Time] = Field(min_length=1)
     angle_deg: list[Annotated[float, Field(ge=-720, le=720)]] = Field(min_length=1)
-
-    @model_validator(mode="after")
-    def _t(self):
-        _check_table(self.time_s, self.angle_deg, "time_s", "angle_deg")
-        return self
 
 
 class Driver(Strict):

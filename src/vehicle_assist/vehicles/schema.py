@@ -15,7 +15,8 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from vehicle_assist.core.tables import Table, TableError
+from vehicle_assist.core.table_spec import TableSpec
+from vehicle_assist.core.tables import Table
 
 
 class Strict(BaseModel):
@@ -27,25 +28,15 @@ NonNeg = Annotated[float, Field(ge=0)]
 Frac = Annotated[float, Field(ge=0, le=1)]
 
 
-class TorqueCurve(Strict):
+class TorqueCurve(TableSpec):
     speed_rpm: list[Annotated[float, Field(ge=0, le=10000)]]
     torque_nm: list[Annotated[float, Field(ge=0, le=20000)]]
     extrapolation: Literal["clamp", "linear"] = "clamp"
 
-    @model_validator(mode="after")
-    def _table(self):
-        Table("speed_rpm", "torque_nm", tuple(self.speed_rpm), tuple(self.torque_nm), self.extrapolation)
-        return self
 
-
-class PedalMap(Strict):
+class PedalMap(TableSpec):
     accelerator_frac: list[Frac]
     torque_nm: list[Annotated[float, Field(ge=-5000, le=5000)]]
-
-    @model_validator(mode="after")
-    def _table(self):
-        Table("accelerator_frac", "torque_nm", tuple(self.accelerator_frac), tuple(self.torque_nm))
-        return self
 
 
 class Body(Strict):
@@ -180,14 +171,9 @@ class Ehb(Strict):
     pedal_full_pressure_bar: Annotated[float, Field(gt=0, le=300)]
 
 
-class ReleaseTimeTable(Strict):
+class ReleaseTimeTable(TableSpec):
     reservoir_pressure_bar: list[Annotated[float, Field(ge=0, le=15)]]
     release_time_s: list[Annotated[float, Field(gt=0, le=60)]]
-
-    @model_validator(mode="after")
-    def _table(self):
-        Table("reservoir_pressure_bar", "release_time_s", tuple(self.reservoir_pressure_bar), tuple(self.release_time_s))
-        return self
 
 
 class HillStartAssist(Strict):

@@ -29,7 +29,6 @@ import numpy as np
 
 from vehicle_assist.conventions import G_MPS2, STANDSTILL_SPEED_MPS
 from vehicle_assist.core.fsm import StateMachine, Transition, log_event
-from vehicle_assist.core.tables import interp
 from vehicle_assist.functions import amt_launch, hill_start_amt
 from vehicle_assist.plant.brakes.pneumatic import (
     decay,

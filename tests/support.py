@@ -1,0 +1,45 @@
+"""Helpers shared by the tests: scenario-event strings for --set style overrides, cached runs, and the
+rows a state machine logged."""
+from __future__ import annotations
+
+import functools
+
+import vehicle_assist as va
+
+
+def events_arg(*items: str) -> str:
+    return "events=[" + ", ".join(items) + "]"
+
+
+def sensor_fault(sensor: str, fault: str, at_s: float, extra: str = "") -> str:
+    return f'{{at_s={at_s:g}, action="sensor_fault", sensor="{sensor}", fault="{fault}"{extra}}}'
+
+
+def set_input(name: str, value: float, at_s: float) -> str:
+    return f'{{at_s={at_s:g}, action="set_input", input="{name}", value={value:g}}}'
+
+
+def valve_fault(fault: str, at_s: float = 0.0) -> str:
+    return f'{{at_s={at_s:g}, action="actuator_fault", actuator="valve_32", fault="{fault}"}}'
+
+
+def ehb_limited(at_s: float, limit_bar: float = 5.0) -> str:
+    return f'{{at_s={at_s:g}, action="actuator_fault", actuator="ehb", fault="limited", limit_bar={limit_bar:g}}}'
+
+
+@functools.lru_cache(maxsize=None)
+def run(name: str, *sets: str):
+    """Simulate a shipped scenario with overrides (cached: row-coverage tests reuse every run)."""
+    return va.simulate(va.load_scenario(name, list(sets)))
+
+
+def machine_rows(r, machine: str) -> list[tuple[str, str, str]]:
+    return [(e.from_mode, e.to_mode, e.reason) for e in r.events if e.machine == machine]
+
+
+def machine_event(r, machine: str, to_mode: str, reason: str | None = None, from_mode: str | None = None):
+    for e in r.events:
+        if e.machine == machine and e.to_mode == to_mode and (reason is None or e.reason == reason) \
+                and (from_mode is None or e.from_mode == from_mode):
+            return e
+    return None
