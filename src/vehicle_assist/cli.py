@@ -56,15 +56,19 @@ def _external(name: str, value: float) -> str:
 @app.command("list")
 def list_cmd() -> None:
     """Shipped scenarios and vehicles, one line each."""
-    from vehicle_assist.scenarios.loader import _read_toml, shipped
+    from vehicle_assist.scenarios.loader import _read_toml, _vehicle_raw, shipped
 
+    width = max(console.width, 60)
     for kind in ("scenarios", "vehicles"):
-        table = RichTable(title=f"shipped {kind}", show_lines=False)
-        table.add_column("name", style="bold")
-        table.add_column("description")
-        for name, path in shipped(kind).items():
-            table.add_row(name, str(_read_toml(path).get("description", "")))
-        console.print(table)
+        files = shipped(kind)
+        key = "paper" if kind == "scenarios" else "layout"
+        name_w = max(map(len, files), default=4)
+        console.print(f"[bold]shipped {kind}[/] ({len(files)})", highlight=False)
+        for name, path in files.items():
+            raw = _read_toml(path) if kind == "scenarios" else _vehicle_raw(name)[0]
+            line = f"  {name:<{name_w}}  {str(raw.get(key, '')):<9}  {raw.get('description', '')}"
+            console.print(line if len(line) <= width else line[: width - 1] + "…", highlight=False, markup=False,
+                          soft_wrap=True)
 
 
 def _load(scenario: str, sets: Optional[List[str]]):
