@@ -13,6 +13,41 @@ import os as _os
 # runs need (measured: ~15 % slower batches on 2 cores). Only effective if numpy is not imported yet.
 _os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
+
+def _numba_cache_dir() -> str:
+    """A compile-cache directory per version of this package's source.
+
+    numba keys a cached function on its own file only: a kernel that calls a controller in another file
+    keeps running the old controller from the cache after the controller is edited. Keying the whole
+    cache on a hash of every source file of the package makes any edit recompile everything (measured:
+    hashing the ~50 files takes ~2 ms)."""
+    import hashlib
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent
+    digest = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        digest.update(path.relative_to(root).as_posix().encode())
+        digest.update(path.read_bytes())
+    base = _os.environ.get("XDG_CACHE_HOME") or _os.path.join(_os.path.expanduser("~"), ".cache")
+    parent = Path(base) / "vehicle-assist" / "numba"
+    target = parent / digest.hexdigest()[:16]
+    if not target.exists() and parent.is_dir():  # a new source version: keep the 4 newest older caches
+        import shutil
+
+        old = sorted((d for d in parent.iterdir() if d.is_dir()), key=lambda d: d.stat().st_mtime, reverse=True)
+        for stale in old[4:]:
+            shutil.rmtree(stale, ignore_errors=True)
+    return str(target)
+
+
+if "NUMBA_CACHE_DIR" not in _os.environ:  # an explicit setting (benchmarks, CI) wins
+    _os.environ["NUMBA_CACHE_DIR"] = _numba_cache_dir()
+    import sys as _sys
+
+    if "numba" in _sys.modules:  # numba already imported by the caller: set its config directly
+        _sys.modules["numba"].config.CACHE_DIR = _os.environ["NUMBA_CACHE_DIR"]
+
 __version__ = "0.1.0"
 
 

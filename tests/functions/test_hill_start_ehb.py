@@ -381,14 +381,7 @@ def held_before_breakaway(r) -> np.ndarray:
 @pytest.mark.parametrize("name", [
     S1,
     S3,
-    pytest.param(S4, marks=pytest.mark.xfail(strict=True, reason=(
-        "S4 (hesitating driver): pedal 0.30 -> 0.10 at 15.333 s; the assist reacts within one period (command "
-        "1.76 -> 7.02 bar at 15.34 s) but the motor torque falls with tau_m = 0.02 s (44 -> 5.5 N*m) while the "
-        "EHB builds with tau_ehb = 0.05 s, so F_t + F_b_cap - F_i < 0 from 15.345 s to 15.444 s, minimum "
-        "-191.8 N at 15.371 s (1 ms trace); the car stays held only by the rolling-resistance reaction (192 of "
-        "220 N). Not fixable by the brake command alone: limit the motor-torque decrease while the assist is "
-        "active (ev_vcu: fall no faster than the EHB can build, e.g. first-order with tau >= tau_ehb), or raise "
-        "F_margin above ~300 N, or state criterion 6 with F_f_cap."))),
+    S4,  # hesitating driver: held by the torque coordination (the motor keeps what the brake does not yet carry)
 ])
 def test_criterion_6_force_sum_invariant_while_held(name) -> None:
     """hill_start_ehb.md 5.6 (P4/P5): drive_force_n + service_brake_capacity_n >= grade_resistance_n at every

@@ -81,6 +81,7 @@ STATE_DTYPE = np.dtype([
     ("mode_time_s", "f8"),
     ("parking_brake_request_flag", "f8"),
     ("slope_checked_flag", "f8"),          # next_1 fires once per brake application (no IDLE/SLOPE_CHECK flapping)
+    ("torque_floor_nm", "f8"),             # motor-torque request floor while holding (torque coordination)
     ("warning_flag", "f8"),
 ])
 
@@ -121,6 +122,18 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     t_request = interp(p.motor_pedal_map_x, p.motor_pedal_map_y, p.motor_pedal_map_n, p.motor_pedal_map_extrap,
                        p.motor_pedal_map_interp, m.accelerator_frac)
     t_motor = m.motor_torque_nm if m.motor_torque_ok > 0.5 else 0.0
+    # torque coordination: while the car stands on the assist's brake, the motor keeps the torque that the
+    # measured brake force does not yet carry (F_t >= F_ang + F_margin - F_b): a driver backing off the pedal
+    # lowers the torque only as fast as the EHB re-builds; the composition applies max(driver, floor)
+    if (mode == HOLD or mode == FOLLOW or mode == DEGRADED) and standing and m.brake_pressure_ok > 0.5:
+        f_brake = k_b * m.brake_pressure_pa / r
+        f_margin = p.hill_start_assist_margin_rolling_frac * mass * g_acc * p.hill_start_assist_rolling_resistance_coeff
+        needed_nm = max(c.grade_force_n + f_margin - f_brake, 0.0) * r / i0_eta
+        c.torque_floor_nm = min(needed_nm, max(t_motor, 0.0))  # keep what the motor has, never ask for more
+    else:
+        c.torque_floor_nm = 0.0
+    # F_tq credits the driver's request, not the floor: the brake re-builds for what the driver wants, and
+    # the floor falls as it does
     c.torque_force_prev_n = c.torque_force_n
     c.torque_force_n = max(min(t_request, t_motor), 0.0) * i0_eta / r
     margin = p.hill_start_assist_margin_rolling_frac * mass * g_acc * p.hill_start_assist_rolling_resistance_coeff * math.cos(gamma)

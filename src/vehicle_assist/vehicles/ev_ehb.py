@@ -151,6 +151,7 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
     pressure = min(max(inputs[IN_BRAKE_PEDAL], 0.0), 1.0) * p.ehb_pedal_full_pressure_pa
     vcu.brake_pressure_command_pa = pressure
     pressure_command = pressure
+    torque_command = 0.0
     slope = 0.0
     f_t = 0.0
     f_i = 0.0
@@ -220,6 +221,8 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
             # brake by wire: the larger of the driver's and the assist's pressure request
             pressure_command = max(vcu.brake_pressure_command_pa, hsa.pressure_command_pa) if hsa_active \
                 else vcu.brake_pressure_command_pa
+            # torque coordination: the motor gets max(driver request, the assist's floor) while it holds
+            torque_command = max(vcu.torque_request_nm, hsa.torque_floor_nm) if hsa_active else vcu.torque_request_nm
             tick += 1
 
         # forces at t from the state at t
@@ -258,7 +261,7 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
             row.vehicle_held_flag = 1.0 if held else 0.0
             row.motor_speed_radps = v * i0 / r
             row.motor_torque_nm = t_m
-            row.motor_torque_request_nm = vcu.torque_request_nm
+            row.motor_torque_request_nm = torque_command
             row.brake_pressure_pa = pressure
             row.brake_pressure_command_pa = pressure_command
             row.hsa_mode_index = hsa.mode if hsa_enabled else -1.0
@@ -279,7 +282,7 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
             n_events = log_event(events, n_events, t, M_VEHICLE, 0 if was_held else 1, 0 if held else 1, 1 if held else 0)
         v = v_new
         x += v * dt
-        t_m = motor_torque_step(t_m, vcu.torque_request_nm, v * i0 / r, p.motor_max_torque_nm, p.motor_max_power_w,
+        t_m = motor_torque_step(t_m, torque_command, v * i0 / r, p.motor_max_torque_nm, p.motor_max_power_w,
                                 p.motor_time_constant_s, dt)
         pressure = ehb_pressure_step(pressure, pressure_command, p.ehb_time_constant_s,
                                      p.ehb_build_rate_pa_per_s, p.ehb_release_rate_pa_per_s, ehb_limit_pa, dt)
