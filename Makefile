@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 OUT ?= out
 
-.PHONY: setup demo test test-slow bench clean
+.PHONY: setup warm demo test test-slow bench clean
 
 $(STAMP): pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
@@ -18,10 +18,15 @@ setup: $(STAMP)
 demo: $(STAMP)
 	$(BIN)/vehicle-assist reproduce --out $(OUT)/reproduce
 
-test: $(STAMP)
+# compile the kernels once before the two test workers start (else each compiles them, and both write
+# the same cache files at once)
+warm: $(STAMP)
+	$(BIN)/python -c "import vehicle_assist as va; [va.simulate(va.load_scenario(n, ['run.duration_s=0.1'])) for n in ('hsa_truck_full_14deg_80bar', 'hsa_ev_5deg_paper')]"
+
+test: warm
 	$(BIN)/python -m pytest -q -n 2
 
-test-slow: $(STAMP)
+test-slow: warm
 	$(BIN)/python -m pytest -q -n 2 -m slow
 
 bench: $(STAMP)
