@@ -1,4 +1,4 @@
-"""Pieces every vehicle composition shares: driver inputs from the scenario, scenario events, records.
+"""Pieces every vehicle composition shares: the road, scenario events and sensor buffers.
 
 Scenario events are data in the scenario record: each fires once, at a time or when a signal crosses a
 threshold, and then sets a driver input, injects a sensor fault, or ends the run.
@@ -11,33 +11,21 @@ import numpy as np
 from vehicle_assist.core.fsm import log_event
 from vehicle_assist.core.tables import interp
 
-# driver inputs (index into the override arrays)
-IN_ACCELERATOR, IN_BRAKE_PEDAL, IN_GEAR_LEVER, IN_HAND_VALVE, IN_STEERING = range(5)
-INPUTS = ("accelerator", "brake_pedal", "gear_lever", "hand_valve", "steering")
+from vehicle_assist.drivers.scripted import (  # noqa: F401  (re-exported for the compositions)
+    IN_ACCELERATOR,
+    IN_BRAKE_PEDAL,
+    IN_GEAR_LEVER,
+    IN_HAND_VALVE,
+    IN_STEERING,
+    INPUTS,
+    driver_inputs,
+)
 # event actions
 ACT_SET_INPUT, ACT_SENSOR_FAULT, ACT_STOP, ACT_ACTUATOR_FAULT = range(4)
 ACTIONS = ("set_input", "sensor_fault", "stop", "actuator_fault")
 OP_ABOVE, OP_BELOW = range(2)
 EVENT_CAPACITY = 16
 EVENT_BUFFER = 512
-
-
-@nb.njit(cache=True, nogil=True, error_model="numpy")
-def driver_inputs(s, t, override_on, override_value, out):
-    """Scripted driver: pedal, lever and valve tables over time, unless an event overrode them."""
-    out[IN_ACCELERATOR] = interp(s.driver_accelerator_x, s.driver_accelerator_y, s.driver_accelerator_n,
-                                      s.driver_accelerator_extrap, s.driver_accelerator_interp, t)
-    out[IN_BRAKE_PEDAL] = interp(s.driver_brake_pedal_x, s.driver_brake_pedal_y, s.driver_brake_pedal_n,
-                                      s.driver_brake_pedal_extrap, s.driver_brake_pedal_interp, t)
-    out[IN_GEAR_LEVER] = interp(s.driver_gear_lever_x, s.driver_gear_lever_y, s.driver_gear_lever_n,
-                                     s.driver_gear_lever_extrap, s.driver_gear_lever_interp, t)
-    out[IN_HAND_VALVE] = interp(s.driver_hand_valve_x, s.driver_hand_valve_y, s.driver_hand_valve_n,
-                                     s.driver_hand_valve_extrap, s.driver_hand_valve_interp, t)
-    out[IN_STEERING] = interp(s.driver_steering_x, s.driver_steering_y, s.driver_steering_n,
-                                   s.driver_steering_extrap, s.driver_steering_interp, t)
-    for i in range(out.shape[0]):
-        if override_on[i]:
-            out[i] = override_value[i]
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
