@@ -43,3 +43,19 @@ def machine_event(r, machine: str, to_mode: str, reason: str | None = None, from
                 and (from_mode is None or e.from_mode == from_mode):
             return e
     return None
+
+
+def reproduction(paper: str):
+    """The registered reproduction of a paper (procedures/reproduce.py)."""
+    from vehicle_assist.procedures.reproduce import REPRODUCTIONS
+
+    return next(r for r in REPRODUCTIONS if r.paper == paper)
+
+
+def simulate_all(names) -> dict:
+    return {name: va.simulate(va.load_scenario(name)) for name in names}
+
+
+def unexpected_checks(result) -> list[str]:
+    """Checks whose outcome is not what the scenario expects (a negative control must fail its bound)."""
+    return [f"{c.metric}={c.value:.4g} (bound {c.bound}, expect {c.expect})" for c in result.checks if not c.ok]

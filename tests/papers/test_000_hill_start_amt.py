@@ -14,22 +14,23 @@ import math
 import pytest
 
 import vehicle_assist as va
-from vehicle_assist.procedures.reproduce import HSA_MATRIX, REPRODUCTIONS
+from tests.support import reproduction, simulate_all, unexpected_checks
+from vehicle_assist.procedures.reproduce import HSA_MATRIX
 
 RPM = math.pi / 30.0
-PAPER_000 = next(r for r in REPRODUCTIONS if r.paper == "000")
+PAPER_000 = reproduction("000")
 
 
 @pytest.fixture(scope="module")
 def results():
-    return {name: va.simulate(va.load_scenario(name)) for name in PAPER_000.scenarios}
+    return simulate_all(PAPER_000.scenarios)
 
 
 @pytest.mark.parametrize("name", PAPER_000.scenarios)
 def test_every_check_of_every_paper_000_scenario_holds(results, name):
     """hill_start_amt.md 9.1-9.3, 9.5, 9.6, 9.8, 9.10 and P12: every check comes out as the scenario expects
     (assisted starts pass; the negative controls fail their bounds)."""
-    bad = [f"{c.metric}={c.value:.4g} (bound {c.bound}, expect {c.expect})" for c in results[name].checks if not c.ok]
+    bad = unexpected_checks(results[name])
     assert not bad, bad
 
 

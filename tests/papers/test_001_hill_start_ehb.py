@@ -9,21 +9,20 @@ import math
 
 import pytest
 
-import vehicle_assist as va
-from vehicle_assist.procedures.reproduce import REPRODUCTIONS
+from tests.support import reproduction, simulate_all, unexpected_checks
 
-PAPER_001 = next(r for r in REPRODUCTIONS if r.paper == "001")
+PAPER_001 = reproduction("001")
 
 
 @pytest.fixture(scope="module")
 def results():
-    return {name: va.simulate(va.load_scenario(name)) for name in PAPER_001.scenarios}
+    return simulate_all(PAPER_001.scenarios)
 
 
 @pytest.mark.parametrize("name", PAPER_001.scenarios)
 def test_every_check_of_every_paper_001_scenario_holds(results, name):
     """hill_start_ehb.md 5.1-5.9: every check comes out as the scenario expects (negative controls fail)."""
-    bad = [f"{c.metric}={c.value:.4g} (bound {c.bound}, expect {c.expect})" for c in results[name].checks if not c.ok]
+    bad = unexpected_checks(results[name])
     assert not bad, bad
 
 
