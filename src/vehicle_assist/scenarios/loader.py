@@ -368,7 +368,7 @@ def build_scenario_record(sc: LoadedScenario, where: str) -> dict:
         coeff = road.rolling_resistance_coeff if road.rolling_resistance_coeff is not None else v.body.rolling_resistance_coeff
         flat["road_rolling_resistance"] = Table.constant("distance_m", "coeff", coeff)
     flat["road_friction"] = (_table(road.friction, "distance_m", "mu", "distance_m", "mu") if road.friction is not None
-                             else Table.constant("distance_m", "mu", 1.0))
+                             else Table.constant("distance_m", "mu", road.friction_mu if road.friction_mu is not None else 1.0))
 
     d = m.driver
     for name in ("hand_valve", "steering", "gear_lever"):

@@ -51,6 +51,7 @@ class Road(Strict):
     slope: SlopeTable | None = None
     rolling_resistance_coeff: Annotated[float, Field(ge=0, le=0.2)] | None = None
     rolling_resistance: CoeffTable | None = None
+    friction_mu: Annotated[float, Field(ge=0.05, le=1.5)] | None = None
     friction: FrictionTable | None = None
     curve_radius: RadiusTable | None = None
 
@@ -60,6 +61,8 @@ class Road(Strict):
             raise ValueError("give either slope_deg (constant) or slope (table over distance), not both")
         if self.rolling_resistance_coeff is not None and self.rolling_resistance is not None:
             raise ValueError("give either rolling_resistance_coeff or rolling_resistance (table), not both")
+        if self.friction_mu is not None and self.friction is not None:
+            raise ValueError("give either friction_mu (constant) or friction (table over distance), not both")
         return self
 
 

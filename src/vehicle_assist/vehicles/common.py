@@ -39,6 +39,14 @@ def road_at(s, position_m):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def road_friction_at(s, position_m):
+    """Tyre-road adhesion coefficient mu at a distance along the road (1.0 unless the scenario gives
+    ``road.friction``); the compositions limit the force each axle can transmit to mu*F_z."""
+    return interp(s.road_friction_x, s.road_friction_y, s.road_friction_n, s.road_friction_extrap,
+                  s.road_friction_interp, position_m)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def due_events(s, fired, t, signals, due):
     """Mark in ``due`` the events that fire now (each fires once)."""
     any_due = False
