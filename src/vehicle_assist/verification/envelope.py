@@ -1,0 +1,420 @@
+"""Operating envelopes as data: the region of inputs over which a function must be safe.
+
+An envelope file (``data/envelopes/<function>.toml``) names a base scenario and the dimensions along
+which it varies, each with its source:
+
+* ``[ranges.NAME]`` continuous: ``path`` (a dotted scenario path, as for ``--set``), ``min``, ``max``.
+* ``[choices.NAME]`` discrete: ``options.OPTION = { "dotted.path" = value, ... }``; one option may set
+  several paths (a surface sets rolling resistance and adhesion); a path whose first part is a profile
+  name sets a parameter of that profile (``"accelerator.rate_per_s" = 5.0``).
+* ``[profiles.NAME]`` driver inputs as parameterised shapes: ``kind`` (``pedal`` or ``switch``), the
+  scenario ``path`` they write (``driver.accelerator``), and parameters that are numbers or ranges
+  ``{ min, max }`` (ranges are envelope dimensions named ``NAME.PARAM``).
+* ``baseline``: the overrides that make the "no assist" twin of a point
+  (``vehicle.hill_start_assist.enabled_flag=0``).
+
+A point is a dict ``{dimension name: value}``; :meth:`Envelope.scenario` turns it into a
+:class:`~vehicle_assist.scenarios.loader.LoadedScenario` by dotted overrides of the base scenario.
+Every continuous dimension maps to the unit interval (``unit_to_point``), which is what the samplers
+(grid, Sobol, LHS) and the optimisers work on; a discrete dimension of k options splits [0, 1] into k
+equal cells.
+
+    from vehicle_assist.verification.envelope import load_envelope
+    env = load_envelope("hill_start_amt")
+    points = env.grid(3)                     # every option x 3 levels of every range
+    sc = env.scenario(points[0]); twin = env.scenario(points[0], baseline=True)
+"""
+from __future__ import annotations
+
+import itertools
+import math
+import tomllib
+from dataclasses import dataclass
+from functools import cached_property
+from importlib import resources
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from vehicle_assist.scenarios.errors import InputError, did_you_mean, from_validation
+
+DATA = resources.files("vehicle_assist") / "data" / "envelopes"
+Source = Annotated[str, Field(min_length=3)]
+PROFILE_KINDS = ("pedal", "switch")
+PEDAL_PARAMS = {"start_s", "rate_per_s", "duration_s", "level_frac", "dip_at_frac", "dip_depth_frac", "dip_hold_s"}
+SWITCH_PARAMS = {"at_s"}
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+
+class Interval(Strict):
+    min: float
+    max: float
+    source: Source = "see the profile's source"
+
+    @model_validator(mode="after")
+    def _order(self):
+        if not self.min < self.max:
+            raise ValueError(f"min = {self.min:g} must be below max = {self.max:g}")
+        return self
+
+
+class RangeSpec(Strict):
+    path: str = Field(min_length=3)
+    min: float
+    max: float
+    source: Source
+    integer: bool = False
+
+    @model_validator(mode="after")
+    def _order(self):
+        if not self.min < self.max:
+            raise ValueError(f"min = {self.min:g} must be below max = {self.max:g}")
+        return self
+
+
+class ChoiceSpec(Strict):
+    options: dict[str, dict[str, Any]] = Field(min_length=1)
+    source: Source
+
+
+class ProfileSpec(Strict):
+    kind: Literal["pedal", "switch"]
+    path: str = Field(min_length=3)
+    params: dict[str, float | Interval]
+    source: Source
+
+    @model_validator(mode="after")
+    def _params(self):
+        known = PEDAL_PARAMS if self.kind == "pedal" else SWITCH_PARAMS
+        for key in self.params:
+            if key not in known:
+                raise ValueError(f"params: unknown parameter {key!r} for kind {self.kind!r}{did_you_mean(key, known)}; "
+                                 f"known: {', '.join(sorted(known))}")
+        need = {"start_s", "level_frac"} if self.kind == "pedal" else {"at_s"}
+        missing = need - set(self.params)
+        if missing:
+            raise ValueError(f"params: {self.kind} profile needs {', '.join(sorted(missing))}")
+        if self.kind == "pedal" and ("rate_per_s" in self.params) == ("duration_s" in self.params):
+            raise ValueError("params: a pedal profile needs exactly one of rate_per_s or duration_s")
+        return self
+
+
+class EnvelopeModel(Strict):
+    name: str
+    description: str = ""
+    function: str
+    paper: str = ""
+    base: str = Field(min_length=1)
+    baseline: list[str] = Field(min_length=1)
+    baseline_source: Source
+    sets: list[str] = []
+    tail_s: Annotated[float, Field(ge=0, le=600)] | None = None
+    max_duration_s: Annotated[float, Field(gt=0, le=3600)] = 120.0
+    requirements: list[str] = []
+    ranges: dict[str, RangeSpec] = {}
+    choices: dict[str, ChoiceSpec] = {}
+    profiles: dict[str, ProfileSpec] = {}
+
+    @model_validator(mode="after")
+    def _dims(self):
+        if not (self.ranges or self.choices or self.profiles):
+            raise ValueError("an envelope needs at least one of ranges, choices or profiles")
+        for name in self.profiles:
+            if name in ("vehicle", "road", "driver", "run", "sensors", "events", "checks"):
+                raise ValueError(f"profiles.{name}: a profile may not be named like a scenario section")
+        return self
+
+
+@dataclass(frozen=True)
+class Dim:
+    """One dimension of an envelope: continuous (``lo``..``hi``) or discrete (``options``)."""
+
+    name: str
+    kind: str  # "continuous" | "discrete"
+    lo: float = 0.0
+    hi: float = 1.0
+    options: tuple[str, ...] = ()
+    source: str = ""
+    integer: bool = False
+
+    def from_unit(self, u: float):
+        u = min(max(float(u), 0.0), 1.0)
+        if self.kind == "discrete":
+            return self.options[min(int(u * len(self.options)), len(self.options) - 1)]
+        value = self.lo + u * (self.hi - self.lo)
+        return float(round(value)) if self.integer else value
+
+    def to_unit(self, value) -> float:
+        if self.kind == "discrete":
+            return (self.options.index(value) + 0.5) / len(self.options)
+        return (float(value) - self.lo) / (self.hi - self.lo)
+
+    def levels(self, n: int) -> list:
+        if self.kind == "discrete":
+            return list(self.options)
+        if n <= 1:
+            return [0.5 * (self.lo + self.hi)]
+        return [float(v) for v in np.linspace(self.lo, self.hi, n)]
+
+    def describe(self) -> str:
+        if self.kind == "discrete":
+            return "{" + ", ".join(self.options) + "}"
+        return f"{self.lo:g} .. {self.hi:g}"
+
+
+def toml_value(value: Any) -> str:
+    """A TOML literal for an override value (numbers, strings, lists, inline tables)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        return repr(value)
+    if isinstance(value, str):
+        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(toml_value(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k} = {toml_value(v)}" for k, v in value.items()) + "}"
+    raise TypeError(f"cannot write {type(value).__name__} as TOML")
+
+
+def pedal_table(start_s: float, level_frac: float, rate_per_s: float | None = None, duration_s: float | None = None,
+                dip_at_frac: float = 0.5, dip_depth_frac: float = 0.0, dip_hold_s: float = 0.7) -> dict:
+    """Pedal travel over time: a ramp from 0 at ``start_s`` to ``level_frac`` at ``rate_per_s`` (or over
+    ``duration_s``); with ``dip_depth_frac > 0`` the driver hesitates at ``dip_at_frac`` of the ramp: the
+    pedal falls by that fraction of its travel, is held ``dip_hold_s``, then the ramp resumes."""
+    start_s = max(float(start_s), 0.0)
+    level = min(max(float(level_frac), 0.0), 1.0)
+    rate = float(rate_per_s) if rate_per_s is not None else level / max(float(duration_s), 1e-3)
+    rate = max(rate, 1e-4)
+    if dip_depth_frac <= 0.0 or level <= 0.0:
+        return {"time_s": [round(start_s, 6), round(start_s + max(level / rate, 1e-3), 6)], "frac": [0.0, level]}
+    a1 = level * min(max(dip_at_frac, 0.05), 0.95)
+    t1 = start_s + a1 / rate
+    a_low = a1 * (1.0 - min(dip_depth_frac, 1.0))
+    t2 = t1 + 0.001
+    t3 = t2 + max(dip_hold_s, 0.001)
+    t4 = t3 + max((level - a_low) / rate, 1e-3)
+    return {"time_s": [round(t, 6) for t in (start_s, t1, t2, t3, t4)], "frac": [0.0, a1, a_low, a_low, level]}
+
+
+def switch_table(at_s: float) -> dict:
+    """A driver switch (hand park valve): applied (0) from the start, released (1) from ``at_s``."""
+    return {"time_s": [0.0, round(max(float(at_s), 0.001), 6)], "released": [0, 1]}
+
+
+def shipped_envelopes() -> dict[str, Path]:
+    folder = Path(str(DATA))
+    return {p.stem: p for p in sorted(folder.glob("*.toml"))}
+
+
+class Envelope:
+    """A validated envelope: its dimensions, samplers and the scenario of a point."""
+
+    def __init__(self, model: EnvelopeModel, path: Path | None):
+        self.model = model
+        self.path = path
+        self.where = str(path) if path else "envelope"
+
+    # -- dimensions ------------------------------------------------------------------------------
+    @cached_property
+    def dims(self) -> list[Dim]:
+        m = self.model
+        out = [Dim(n, "continuous", r.min, r.max, source=r.source, integer=r.integer) for n, r in m.ranges.items()]
+        for pname, prof in m.profiles.items():
+            for key, value in prof.params.items():
+                if isinstance(value, Interval):
+                    src = value.source if value.source != "see the profile's source" else prof.source
+                    out.append(Dim(f"{pname}.{key}", "continuous", value.min, value.max, source=src))
+        out += [Dim(n, "discrete", options=tuple(c.options), source=c.source) for n, c in m.choices.items()]
+        return out
+
+    @property
+    def names(self) -> list[str]:
+        return [d.name for d in self.dims]
+
+    @property
+    def continuous(self) -> list[Dim]:
+        return [d for d in self.dims if d.kind == "continuous"]
+
+    @property
+    def discrete(self) -> list[Dim]:
+        return [d for d in self.dims if d.kind == "discrete"]
+
+    def dim(self, name: str) -> Dim:
+        for d in self.dims:
+            if d.name == name:
+                return d
+        raise InputError(f"{self.where}: no dimension {name!r}{did_you_mean(name, self.names)}; dimensions: {', '.join(self.names)}")
+
+    @cached_property
+    def base_scenario(self):
+        from vehicle_assist.scenarios.loader import load_scenario
+
+        try:
+            return load_scenario(self.model.base, list(self.model.sets))
+        except InputError as exc:
+            raise InputError(f"{self.where}: base: {exc}") from None
+
+    @property
+    def layout(self) -> str:
+        return self.base_scenario.layout
+
+    # -- points ----------------------------------------------------------------------------------
+    def unit_to_point(self, u) -> dict:
+        u = np.asarray(u, dtype=float).ravel()
+        if len(u) != len(self.dims):
+            raise ValueError(f"a point of {self.model.name} has {len(self.dims)} coordinates, got {len(u)}")
+        return {d.name: d.from_unit(x) for d, x in zip(self.dims, u)}
+
+    def point_to_unit(self, point: dict) -> np.ndarray:
+        return np.array([d.to_unit(point[d.name]) for d in self.dims])
+
+    def center(self) -> dict:
+        return self.unit_to_point(np.full(len(self.dims), 0.5))
+
+    def grid(self, levels: int | dict[str, int] = 3) -> list[dict]:
+        """Full factorial: every option of every choice x ``levels`` equally spaced values (ends included)
+        of every continuous dimension (``levels`` may be a dict by dimension name; default 3)."""
+        per = []
+        for d in self.dims:
+            n = levels.get(d.name, 3) if isinstance(levels, dict) else levels
+            per.append(d.levels(n))
+        return [dict(zip(self.names, combo)) for combo in itertools.product(*per)]
+
+    def sample(self, n: int, method: str = "sobol", seed: int = 0) -> tuple[np.ndarray, list[dict]]:
+        """``n`` quasi-random points (``sobol`` scrambled, ``lhs`` or ``random``) with their unit coordinates."""
+        from scipy.stats import qmc
+
+        d = len(self.dims)
+        if method == "sobol":
+            u = qmc.Sobol(d, scramble=True, seed=seed).random(n)
+        elif method == "lhs":
+            u = qmc.LatinHypercube(d, seed=seed).random(n)
+        elif method == "random":
+            u = np.random.default_rng(seed).random((n, d))
+        else:
+            raise InputError(f"sampling method {method!r}: use sobol, lhs or random")
+        return u, [self.unit_to_point(row) for row in u]
+
+    # -- scenarios -------------------------------------------------------------------------------
+    def sets(self, point: dict, baseline: bool = False) -> list[str]:
+        """The dotted overrides of the base scenario that make ``point`` (and its no-assist twin)."""
+        m = self.model
+        unknown = [k for k in point if k not in self.names]
+        if unknown:
+            raise InputError(f"{self.where}: point has unknown dimension {unknown[0]!r}{did_you_mean(unknown[0], self.names)}")
+        paths: dict[str, Any] = {}
+        params = {p: {k: v for k, v in prof.params.items() if not isinstance(v, Interval)} for p, prof in m.profiles.items()}
+        for name, r in m.ranges.items():
+            if name in point:
+                paths[r.path] = point[name]
+        for d in self.dims:
+            if "." in d.name and d.name.split(".", 1)[0] in m.profiles and d.name in point:
+                p, k = d.name.split(".", 1)
+                params[p][k] = point[d.name]
+        for name, c in m.choices.items():
+            if name not in point:
+                continue
+            option = point[name]
+            if option not in c.options:
+                raise InputError(f"{self.where}: choices.{name}: no option {option!r}{did_you_mean(option, c.options)}")
+            for path, value in c.options[option].items():
+                head = path.split(".", 1)[0]
+                if head in m.profiles and "." in path:
+                    params[head][path.split(".", 1)[1]] = value
+                else:
+                    paths[path] = value
+        end_s = 0.0
+        for pname, prof in m.profiles.items():
+            pv = params[pname]
+            if any(isinstance(v, Interval) for v in pv.values()) or len(pv) < len(prof.params):
+                # a point without this profile's ranged parameters: use the middle of each range
+                for k, v in prof.params.items():
+                    if isinstance(v, Interval) and k not in pv:
+                        pv[k] = 0.5 * (v.min + v.max)
+            if prof.kind == "pedal":
+                table = pedal_table(**pv)
+            else:
+                table = switch_table(**pv)
+            end_s = max(end_s, table["time_s"][-1])
+            paths[prof.path] = table
+        if m.tail_s is not None:
+            base_duration = self.base_scenario.model.run.duration_s
+            duration = min(max(base_duration, end_s + m.tail_s), m.max_duration_s)
+            if duration != base_duration:
+                paths["run.duration_s"] = round(duration, 3)
+        out = [f"{path}={toml_value(value)}" for path, value in paths.items()]
+        if baseline:
+            out += list(m.baseline)
+        return out
+
+    def scenario(self, point: dict, baseline: bool = False):
+        """The :class:`LoadedScenario` of ``point`` (its no-assist twin with ``baseline=True``)."""
+        return self.base_scenario.with_sets(*self.sets(point, baseline))
+
+    def point_name(self, point: dict) -> str:
+        parts = []
+        for d in self.dims:
+            v = point.get(d.name)
+            parts.append(f"{d.name}={v}" if d.kind == "discrete" else f"{d.name}={v:.4g}")
+        return ", ".join(parts)
+
+    def validate_points(self) -> None:
+        """Build the scenario at the centre and at both ends of every dimension (and each option): any
+        override the scenario schema rejects is reported as an envelope error naming the dimension."""
+        centre = self.center()
+        for d in self.dims:
+            for value in (d.options if d.kind == "discrete" else (d.lo, d.hi)):
+                point = dict(centre, **{d.name: value})
+                for baseline in (False, True):
+                    try:
+                        self.scenario(point, baseline)
+                    except InputError as exc:
+                        what = "baseline" if baseline else (f"choices.{d.name}.options.{value}" if d.kind == "discrete"
+                                                            else f"{d.name} = {value:g}")
+                        raise InputError(f"{self.where}: {what}: {exc}") from None
+
+    def table_rows(self) -> list[dict]:
+        """One row per dimension: name, kind, range or options, source (for docs and reports)."""
+        return [{"dimension": d.name, "kind": d.kind, "values": d.describe(), "source": d.source} for d in self.dims]
+
+
+def load_envelope(name_or_path: str | Path, validate: bool = True) -> Envelope:
+    """Load and validate an envelope (shipped name like ``hill_start_amt`` or a .toml path)."""
+    files = shipped_envelopes()
+    text = str(name_or_path)
+    if text in files:
+        path = files[text]
+    else:
+        path = Path(text)
+        if not (path.suffix == ".toml" or path.exists() or "/" in text):
+            raise InputError(f"no shipped envelope named {text!r}{did_you_mean(text, files)} and no such file; "
+                             f"shipped: {', '.join(files)}")
+    try:
+        raw = tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputError(f"{path}: file not found; give an existing envelope file or a shipped name ({', '.join(files)})") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{path}: not valid TOML ({exc}); fix the syntax at that place") from None
+    try:
+        model = EnvelopeModel.model_validate(raw)
+    except ValidationError as exc:
+        raise from_validation(exc, EnvelopeModel, str(path)) from None
+    env = Envelope(model, path)
+    if validate:
+        env.base_scenario  # noqa: B018  (loads the base; a bad name is reported against the envelope)
+        env.validate_points()
+    return env
+
+
+def baseline_scenario(env: Envelope, point: dict):
+    return env.scenario(point, baseline=True)
+
+
