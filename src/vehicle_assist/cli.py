@@ -130,8 +130,13 @@ def run(
     console.print(_metrics_table(f"{sc.name}: metrics ({elapsed:.2f} s wall)", result.metrics))
     if result.checks:
         console.print(_checks_table("checks", result.checks))
+    if result.requirements:
+        from vehicle_assist.cli_verify import requirements_table
+
+        console.print(requirements_table(result.requirements))
     with console.status("writing results..."):
-        paths = write_run_outputs(result.trace, result.metrics, out, sc.name, [c.as_dict() for c in result.checks], plot=plot)
+        paths = write_run_outputs(result.trace, result.metrics, out, sc.name, [c.as_dict() for c in result.checks], plot=plot,
+                                      requirements=[r.as_dict() for r in result.requirements])
     console.print(f"wrote {', '.join(str(p) for p in paths.values())}")
     if not result.ok:
         raise typer.Exit(1)
@@ -234,6 +239,11 @@ def metrics() -> None:
     for name, m in sorted(METRICS.items()):
         table.add_row(name, ", ".join(m.requires), m.description)
     console.print(table)
+
+
+from vehicle_assist.cli_verify import register as _register_verify  # noqa: E402  (falsify, study, requirements)
+
+_register_verify(app)
 
 
 def main() -> None:

@@ -235,6 +235,7 @@ def write_run_outputs(
     title: str,
     checks: list[dict] | None = None,
     plot: bool = True,
+    requirements: list[dict] | None = None,
 ) -> dict[str, Path]:
     """Write the outputs of one run into ``out_dir`` and return their paths.
 
@@ -252,6 +253,7 @@ def write_run_outputs(
             {
                 "metrics": dict(metrics),
                 "checks": list(checks or []),
+                "requirements": list(requirements or []),
                 "events": [e.as_dict() for e in trace.events],
                 "meta": dict(trace.meta),
             },

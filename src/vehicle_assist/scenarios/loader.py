@@ -494,4 +494,8 @@ def build_scenario_record(sc: LoadedScenario, where: str) -> dict:
     for i, c in enumerate(m.checks):
         if c.metric not in known:
             raise InputError(f"{where}: checks.{i}.metric = {c.metric!r}: unknown metric{did_you_mean(c.metric, known)}; see 'vehicle-assist metrics'")
+    if m.requirements:  # STL requirements: syntax and channel names checked here (verification/requirements.py)
+        from vehicle_assist.verification.requirements import resolve
+
+        resolve(m.requirements, sc.layout, where)
     return flat

@@ -60,6 +60,7 @@ class Result:
     trace: Trace
     metrics: dict[str, float]
     checks: list[CheckResult] = field(default_factory=list)
+    requirements: list = field(default_factory=list)  # verification.requirements.RequirementResult, one per attached requirement
 
     @property
     def events(self):
@@ -67,7 +68,7 @@ class Result:
 
     @property
     def ok(self) -> bool:
-        return all(c.ok for c in self.checks)
+        return all(c.ok for c in self.checks) and all(r.ok for r in self.requirements)
 
 
 def _capacities(flats: Sequence[dict]) -> dict[str, int]:
@@ -138,8 +139,27 @@ def _meta(sc: LoadedScenario) -> dict[str, str]:
     }
 
 
-def simulate(sc: LoadedScenario) -> Result:
-    """Run one scenario and return its full trace, metrics, events and checks."""
+def evaluate_requirements(sc: LoadedScenario, trace: Trace, metrics: dict[str, float]) -> list:
+    """Robustness of each requirement attached to the scenario; a comparative one ("never worse than no
+    assist") runs the scenario's no-assist twin (the requirement's baseline overrides) once."""
+    from vehicle_assist.verification.requirements import evaluate, resolve
+
+    where = str(sc.path) if sc.path else sc.name
+    reqs = resolve(sc.model.requirements, sc.layout, where)
+    out = []
+    twins: dict[tuple, dict] = {}
+    for r in reqs:
+        base_metrics = None
+        if r.comparative:
+            if r.baseline not in twins:
+                twins[r.baseline] = simulate(sc.with_sets(*r.baseline), requirements=False).metrics
+            base_metrics = twins[r.baseline]
+        out += evaluate([r], trace, metrics, base_metrics)
+    return out
+
+
+def simulate(sc: LoadedScenario, requirements: bool = True) -> Result:
+    """Run one scenario and return its full trace, metrics, events, checks and requirement robustness."""
     lay = layouts.get(sc.layout)
     p = pack_records([sc.vehicle.flat()])
     s = pack_records([sc.flat])
@@ -149,7 +169,8 @@ def simulate(sc: LoadedScenario) -> Result:
     channels = {name: np.array(trace_rows[name][:n_rec]) for name in lay.CHANNELS}
     trace = Trace(channels, dict(lay.CHANNELS), _meta(sc), decode_events(events, n_ev, scenario_machines(sc)))
     metrics = compute_metrics(trace)
-    return Result(sc, trace, metrics, evaluate_checks(sc, metrics))
+    reqs = evaluate_requirements(sc, trace, metrics) if requirements and sc.model.requirements else []
+    return Result(sc, trace, metrics, evaluate_checks(sc, metrics), reqs)
 
 
 @dataclass

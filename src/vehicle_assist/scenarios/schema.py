@@ -177,6 +177,20 @@ class VehicleRef(Strict):
     base: str
 
 
+class RequirementSpec(Strict):
+    """A requirement attached to a scenario (see verification/requirements.py): a shipped one by ``id``
+    (``hill_start_amt.no_rollback``), or inline with ``id``, ``formula`` (STL over trace channels) and ``why``."""
+
+    id: Annotated[str, Field(min_length=1)]
+    formula: str | None = None
+    why: str = ""
+    unit: str = ""
+    kind: Literal["stl", "no_worse_than_baseline"] = "stl"
+    expect: Literal["pass", "fail"] = "pass"
+    rollback_floor_m: Annotated[float, Field(ge=0)] = 0.01
+    baseline: list[str] = []
+
+
 class Scenario(Strict):
     name: str
     description: str = ""
@@ -188,4 +202,5 @@ class Scenario(Strict):
     sensors: dict[str, Sensor] = {}
     events: list[EventSpec] = []
     checks: list[Check] = []
+    requirements: list[str | RequirementSpec] = []
     paper: str = ""

@@ -266,6 +266,13 @@ class Envelope:
     def layout(self) -> str:
         return self.base_scenario.layout
 
+    def with_sets(self, sets: list[str]) -> "Envelope":
+        """The same envelope with further fixed overrides on every point (e.g. a seeded defect)."""
+        model = self.model.model_copy(update={"sets": list(self.model.sets) + list(sets)})
+        env = Envelope(model, self.path)
+        env.base_scenario  # noqa: B018  (a bad override is reported now)
+        return env
+
     # -- points ----------------------------------------------------------------------------------
     def unit_to_point(self, u) -> dict:
         u = np.asarray(u, dtype=float).ravel()

@@ -1,0 +1,155 @@
+"""Command line of the verification engine: ``falsify``, ``study``, ``requirements``, ``envelope``.
+
+Registered into the main typer app by :func:`register` (cli.py). Heavy imports happen inside the
+commands, so ``vehicle-assist --help`` stays fast. Bad input: one line naming the field, exit 2.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import List, Optional
+
+import typer
+from rich.console import Console
+from rich.table import Table as RichTable
+
+console = Console()
+err_console = Console(stderr=True)
+
+
+def _fail(message: str, code: int = 2) -> None:
+    err_console.print(f"error: {message}", markup=False, highlight=False, soft_wrap=True)
+    raise typer.Exit(code)
+
+
+def _num(value) -> str:
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return "nan"
+    if isinstance(value, float) and math.isinf(value):
+        return "+inf" if value > 0 else "-inf"
+    return f"{value:.4g}"
+
+
+def requirements_table(results, title: str = "requirements (robustness: signed distance to violation)") -> RichTable:
+    table = RichTable(title=title)
+    for col in ("requirement", "robustness", "unit", "expect", "result", "source"):
+        table.add_column(col, overflow="fold")
+    for r in results:
+        mark = "[green]ok[/]" if r.ok else "[red]FAIL[/]"
+        table.add_row(r.id, _num(r.robustness), r.unit, r.expect, mark, r.why)
+    return table
+
+
+def _check_budget(name: str, value: int, lo: int, hi: int) -> None:
+    if not lo <= value <= hi:
+        _fail(f"{name} = {value}: must be between {lo} and {hi}")
+
+
+def falsify(
+    envelope: str = typer.Argument(..., help="shipped envelope (hill_start_amt, hill_start_ehb) or an envelope .toml"),
+    requirement: str = typer.Option(..., "--requirement", "-r", help="requirement id, e.g. hill_start_amt.no_worse_than_no_assist"),
+    budget: int = typer.Option(200, "--budget", "-n", help="maximum number of evaluated points"),
+    seed: int = typer.Option(0, "--seed", help="seed of the search (same seed, same result)"),
+    optimizer: str = typer.Option("cma", "--optimizer", help="cma (CMA-ES, the cma package) or random"),
+    batch: int = typer.Option(8, "--batch", "-b", help="points per batch (run on all cores)"),
+    set_: Optional[List[str]] = typer.Option(None, "--set", "-s", help="fixed override for every point (repeatable), e.g. a seeded defect"),
+    out: Path = typer.Option(Path("out/falsify"), "--out", "-o", help="output directory"),
+    keep_going: bool = typer.Option(False, "--keep-going", help="use the whole budget even after a violation"),
+) -> None:
+    """Search the envelope for the input that minimises a requirement's robustness (stops at the first violation)."""
+    from vehicle_assist.scenarios.errors import InputError
+    from vehicle_assist.verification.falsify import OPTIMIZERS, run_falsification, write_falsification
+
+    _check_budget("--budget", budget, 1, 1_000_000)
+    _check_budget("--batch", batch, 1, 10_000)
+    if seed < 0:
+        _fail(f"--seed = {seed}: must be >= 0")
+    if optimizer not in OPTIMIZERS:
+        _fail(f"--optimizer = {optimizer!r}: use one of {', '.join(OPTIMIZERS)}")
+    try:
+        result = run_falsification(envelope, requirement, budget=budget, seed=seed, optimizer=optimizer, batch=batch,
+                                   sets=list(set_ or []), stop_at_violation=not keep_going, console=console)
+        paths = write_falsification(result, out)
+    except InputError as exc:
+        _fail(str(exc))
+    best = result.best
+    unit = result.requirement.unit
+    if result.counterexample is not None:
+        console.print(f"[red]counterexample[/] after {result.evaluations_to_first} evaluations: robustness "
+                      f"{_num(result.counterexample.robustness)} {unit}\n  {result.envelope.point_name(result.counterexample.point)}")
+        console.print(f"reproduce it: vehicle-assist run {paths['scenario']}")
+    else:
+        console.print(f"[green]no counterexample[/] in {len(result.evaluations)} evaluations; minimum robustness "
+                      f"{_num(best.robustness)} {unit} at\n  {result.envelope.point_name(best.point)}")
+    console.print(f"wrote {', '.join(str(p) for p in paths.values())}")
+
+
+def study(
+    envelope: str = typer.Argument(..., help="shipped envelope or an envelope .toml"),
+    requirement: str = typer.Option(..., "--requirement", "-r", help="requirement id"),
+    samples: int = typer.Option(256, "--samples", "-n", help="coverage: number of quasi-random points"),
+    method: str = typer.Option("sobol", "--method", help="coverage sampling: sobol, lhs or random"),
+    sensitivity: int = typer.Option(0, "--sensitivity", help="Sobol sensitivity: base sample size N (0 = skip; runs N*(2D+2) points)"),
+    seed: int = typer.Option(0, "--seed"),
+    set_: Optional[List[str]] = typer.Option(None, "--set", "-s", help="fixed override for every point (repeatable)"),
+    out: Path = typer.Option(Path("out/study"), "--out", "-o", help="output directory"),
+) -> None:
+    """Coverage (Sobol/LHS sampling, pass/fail map) and global sensitivity (SALib Sobol indices) of a requirement."""
+    from vehicle_assist.scenarios.errors import InputError
+    from vehicle_assist.verification.study import coverage_study, sensitivity_study
+
+    _check_budget("--samples", samples, 1, 1_000_000)
+    _check_budget("--sensitivity", sensitivity, 0, 100_000)
+    try:
+        cov = coverage_study(envelope, requirement, samples, method=method, seed=seed, sets=list(set_ or []), out=out,
+                             console=console)
+        console.print(f"coverage: {cov['points']} points ({method}), {cov['violations']} violate "
+                      f"{requirement}; minimum robustness {_num(cov['min_robustness'])} {cov['unit']}; figure {cov['figure']}")
+        if sensitivity:
+            sens = sensitivity_study(envelope, requirement, sensitivity, seed=seed, sets=list(set_ or []), out=out,
+                                     console=console)
+            table = RichTable(title=f"Sobol indices of the robustness of {requirement} ({sens['points']} points)")
+            for col in ("dimension", "S1", "S1 conf", "ST", "ST conf"):
+                table.add_column(col)
+            for row in sens["indices"]:
+                table.add_row(row["dimension"], _num(row["S1"]), _num(row["S1_conf"]), _num(row["ST"]), _num(row["ST_conf"]))
+            console.print(table)
+            console.print(f"figure {sens['figure']}")
+    except InputError as exc:
+        _fail(str(exc))
+
+
+def requirements_cmd() -> None:
+    """List the shipped requirements (id, formula, unit, source clause)."""
+    from vehicle_assist.verification.requirements import all_shipped
+
+    table = RichTable(title="shipped requirements")
+    for col in ("id", "formula", "unit", "source"):
+        table.add_column(col, overflow="fold")
+    for rid, r in all_shipped().items():
+        table.add_row(rid, r.formula, r.unit, r.why)
+    console.print(table)
+
+
+def envelope_cmd(name: str = typer.Argument(..., help="shipped envelope or an envelope .toml")) -> None:
+    """Show an envelope's dimensions, ranges and sources (validates the file)."""
+    from vehicle_assist.scenarios.errors import InputError
+    from vehicle_assist.verification.envelope import load_envelope
+
+    try:
+        env = load_envelope(name)
+    except InputError as exc:
+        _fail(str(exc))
+    table = RichTable(title=f"envelope {env.model.name}: base {env.model.base}, baseline {' '.join(env.model.baseline)}")
+    for col in ("dimension", "kind", "values", "source"):
+        table.add_column(col, overflow="fold")
+    for row in env.table_rows():
+        table.add_row(row["dimension"], row["kind"], row["values"], row["source"])
+    console.print(table)
+
+
+def register(app: typer.Typer) -> None:
+    app.command("falsify")(falsify)
+    app.command("study")(study)
+    app.command("requirements")(requirements_cmd)
+    app.command("envelope")(envelope_cmd)
