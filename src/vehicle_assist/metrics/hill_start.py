@@ -14,6 +14,8 @@ The common ones (rollback, stall, engine speeds, clutch slip and brake drag ener
 * ``engage_rate_mean_per_s``: mean commanded clutch rate over the assist's slip engagement (ENGAGE
   modes); the paper expects it larger empty than full (P9).
 * ``valve_32_energized_flag``, ``park_brake_drag_energy_j``.
+* ``assist_refusal_code``: largest refusal code of the run (0 = none; k = ``REFUSAL_REASONS[k - 1]`` of the
+  vehicle module); ``tyre_slip_energy_j``: work dissipated at the driven tyres at the adhesion limit.
 """
 from __future__ import annotations
 
@@ -113,6 +115,21 @@ def park_brake_drag_energy_j(trace: Trace):
     power = np.abs(_ch(trace, "park_brake_force_n") * _ch(trace, "speed_mps"))
     return _out(np.trapezoid(power, _time(trace), axis=-1), trace)
 
+
+def assist_refusal_code(trace: Trace):
+    """Largest refusal code over the run (0: the assist did not refuse)."""
+    return _out(np.max(_ch(trace, "assist_refusal_code"), axis=-1), trace)
+
+
+def tyre_slip_energy_j(trace: Trace):
+    """Energy dissipated at the driven tyres while the drive force is at the adhesion limit."""
+    return _out(np.trapezoid(_ch(trace, "tyre_slip_power_w"), _time(trace), axis=-1), trace)
+
+
+register(Metric("assist_refusal_code", assist_refusal_code, ("assist_refusal_code",),
+                "largest refusal code of the hill-start assist (0 none; k: REFUSAL_REASONS[k - 1])"), replace=True)
+register(Metric("tyre_slip_energy_j", tyre_slip_energy_j, ("time_s", "tyre_slip_power_w"),
+                "energy dissipated at the driven tyres at the adhesion limit (wheel spin)"))
 
 for _m in (
     Metric("park_release_phase_index", park_release_phase_index,

@@ -34,6 +34,7 @@ REPRODUCTIONS: list[Reproduction] = [
         figure_scenarios=("hsa_truck_full_14deg_80bar", "hsa_truck_empty_11deg_80bar", "hsa_truck_full_14deg_65bar",
                           "hsa_truck_full_14deg_no_assist_early_release", "hsa_truck_full_14deg_no_assist_late_release",
                           "truck_11deg_late_release"),
+        extras=("envelope_000", "falsify_000"),  # issue #7 envelope study, issue #8 falsification campaign
     ),
     Reproduction(
         "001",
@@ -44,7 +45,7 @@ REPRODUCTIONS: list[Reproduction] = [
         figures=("hill_start_ehb",),
         figure_scenarios=("hsa_ev_5deg_paper", "hsa_ev_5deg_hesitating", "hsa_ev_5deg_release_too_fast",
                           "ev_5deg_hold_and_pull_away"),
-        extras=("ehb_sweep",),
+        extras=("ehb_sweep", "envelope_001", "falsify_001"),
     ),
 ]
 
@@ -63,6 +64,16 @@ def ehb_sweep_extra(out_dir):
 
 
 EXTRAS = {"ehb_sweep": ehb_sweep_extra}
+
+
+def _verification_extras() -> dict:
+    from vehicle_assist.verification.campaign import reproduce_extras
+
+    return reproduce_extras()
+
+
+EXTRAS.update({name: (lambda out, _n=name: _verification_extras()[_n](out))
+               for name in ("envelope_000", "falsify_000", "envelope_001", "falsify_001")})
 
 
 def register(reproduction: Reproduction) -> None:

@@ -49,6 +49,18 @@ def run_reproductions(out: Path, console: Console | None = None) -> list[dict]:
                     "pass": bool(c.ok),
                     "why": c.why,
                 })
+            for r in result.requirements:  # STL requirements attached to the scenario (robustness >= 0 holds)
+                entries.append({
+                    "paper": rep.paper,
+                    "scenario": name,
+                    "criterion": f"requirement {r.id}: {r.formula} (robustness)",
+                    "negative_control": r.expect == "fail",
+                    "value": r.robustness,
+                    "unit": r.unit or "-",
+                    "bound": ">= 0",
+                    "pass": bool(r.ok),
+                    "why": r.why,
+                })
             progress.advance(task)
         for rep in REPRODUCTIONS:
             for extra in rep.extras:

@@ -19,6 +19,19 @@ Driveline equations (hill_start_amt.md 5.2):
                delta_v*m*dv/dt = T_c*i*eta/r - F_f - F_w - F_i - F_brakes     (stick/slip at rest)
     locked:    (delta_v*m + J_e*(i/r)^2*eta)*dv/dt = T_e*i*eta/r - F_f - F_w - F_i - F_brakes
                T_c = T_e - J_e*(i/r)*dv/dt, lock kept while |T_c| <= T_cap
+
+Tyre adhesion (issue 7): the drive force and the park-brake force act on the driven, spring-braked rear
+tandem and are limited to mu*F_z,rear; the service brake (all axles) and the park brake together to
+mu*m*g*cos(alpha). mu from ``road.friction`` (``road_friction_at``, default 1.0). The rear axle load is the
+static split of the empty truck plus the payload at its own split, with the grade load transfer
+(common.md 9, acceleration transfer neglected at launch):
+
+    F_z,rear = g*[(m0*phi0 + m_p*phi_p)*cos(alpha) + (m0*h0 + m_p*h_p)/l*sin(alpha)],   m_p = max(m - m0, 0)
+
+Wheel spin is quasi-static: beyond the limit the driven wheels slip, the ground force stays at mu*F_z,rear
+and the driveline speed stays tied to the vehicle speed (no separate wheel-spin state; the surplus clutch
+work goes into the tyre contact). A spinning start therefore shows as a truck that does not climb (or rolls
+back) while the clutch delivers more than the grade needs.
 """
 from __future__ import annotations
 
@@ -59,6 +72,7 @@ from vehicle_assist.vehicles.common import (
     apply_events,
     driver_inputs,
     road_at,
+    road_friction_at,
     sensor_delay_buffers,
 )
 
@@ -130,7 +144,12 @@ CHANNELS: dict[str, str] = {
     "hsa_mode_index": "mode of the hill-start assist (see the hill_start_amt state machine)",
     "valve_32_energized_flag": "3/2 solenoid valve spool position: 1 = energised (park brake held)",
     "engine_speed_rate_radps2": "engine-speed rate dn_e/dt as filtered by the hill-start assist",
+    "assist_refusal_code": "0, or k >= 1: the hill-start assist refused / stood down for REFUSAL_REASONS[k - 1]",
+    "rear_axle_load_n": "normal load on the driven rear tandem, static split + grade transfer",
+    "adhesion_limit_n": "mu*F_z,rear: the largest force the driven tandem passes to the road",
+    "tyre_slip_power_w": "power dissipated at the driven tyres while the drive force is at the adhesion limit",
 }
+REFUSAL_REASONS: tuple[str, ...] = hill_start_amt.REFUSAL_REASONS
 TRACE_DTYPE = np.dtype([(name, "f8") for name in CHANNELS])
 
 MACHINES = (
@@ -152,6 +171,17 @@ MACHINES = (
 )
 M_VEHICLE, M_CLUTCH, M_ENGINE, M_GEARBOX, M_AMT, M_HSA = range(6)
 M_SCENARIO = len(MACHINES)  # scenario events are logged under this id
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def rear_axle_load_n(p, mass_kg, slope_rad):
+    """F_z of the driven rear tandem: static split of the empty truck plus the payload, and the grade
+    load transfer m*g*sin(alpha)*h/l (common.md 9 with a_x = 0)."""
+    m0 = min(p.axles_empty_mass_kg, mass_kg)
+    mp = mass_kg - m0
+    static = m0 * p.axles_empty_rear_load_frac + mp * p.axles_payload_rear_load_frac
+    moment = (m0 * p.axles_empty_cg_height_m + mp * p.axles_payload_cg_height_m) / p.axles_wheelbase_m
+    return G * (static * math.cos(slope_rad) + moment * math.sin(slope_rad))
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -238,6 +268,12 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
     last_slope = np.nan
     last_coeff = np.nan
     last_x_c = np.nan
+    last_mu = np.nan
+    mu = 1.0
+    f_z_rear = 0.0
+    f_adh = np.inf
+    f_adh_all = np.inf
+    f_spin = 0.0
 
     # the road at the start position, so that the first sensor sample reads the real grade
     slope, f_coeff = road_at(s, x)
@@ -316,7 +352,9 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
                     tcu.gear_command_index = meas.gear_engaged_index
             if hsa_enabled:
                 hsa_active = hill_start_amt.is_active(hsa)
-                if hsa_active and (int(tcu.mode) == amt_launch.APPROACH or int(tcu.mode) == amt_launch.ENGAGE):
+                tcu_mode = int(tcu.mode)
+                if hsa_active and (tcu_mode == amt_launch.APPROACH or tcu_mode == amt_launch.ENGAGE
+                                   or tcu_mode == amt_launch.LOCKUP or tcu_mode == amt_launch.CLOSED):
                     # the assist takes the clutch from a launch the start program had begun
                     n_events = log_event(events, n_events, t, M_AMT, int(tcu.mode), amt_launch.OPEN,
                                          amt_launch.G_TOOK_OVER)
@@ -330,15 +368,24 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
         # 3. forces at t, from the state at t; the driveline and vehicle give the state at t + dt
         ratio = gear_ratio(p.gearbox_ratios, len(p.gearbox_ratios), gear) * i0
         slope, f_coeff = road_at(s, x)
-        if slope != last_slope or f_coeff != last_coeff:  # trig only when the road changes
+        mu = road_friction_at(s, x)
+        if slope != last_slope or f_coeff != last_coeff or mu != last_mu:  # trig only when the road changes
             f_i = grade_resistance_n(m_kg, slope)
             f_roll_cap = rolling_resistance_capacity_n(m_kg, slope, f_coeff)
+            f_z_rear = rear_axle_load_n(p, m_kg, slope)
+            f_adh = mu * f_z_rear
+            f_adh_all = mu * m_kg * G * math.cos(slope)
             last_slope = slope
             last_coeff = f_coeff
+            last_mu = mu
         f_w = aero_drag_n(p.body_drag_area_m2, v)
         f_sb_cap = p.service_brake_max_force_n * p_sb
         f_pb_cap = park_brake_capacity_n(p_sp, p.park_brake_max_force_n, p.park_brake_release_start_pressure_pa,
                                          p.park_brake_release_full_pressure_pa)
+        # the spring brake acts on the rear tandem, the service brake on all axles: both adhesion-limited; the
+        # rear tyres pass drive and park-brake force together (drive force of the previous step)
+        f_pb_cap = min(f_pb_cap, max(f_adh - max(f_t, 0.0), 0.0))
+        f_sb_cap = min(f_sb_cap, max(f_adh_all - f_pb_cap, 0.0))
         hold_cap = f_roll_cap + f_sb_cap + f_pb_cap
         if x_c != last_x_c:  # the capacity map only when the clutch moves
             cap = clutch_capacity_nm(x_c, p.clutch_max_torque_nm, p.clutch_kiss_point_frac, p.clutch_capacity_exponent)
@@ -351,11 +398,13 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
         w_in_new = w_in
         reaction = 0.0
         t_break = 0.0
+        f_spin = 0.0
         if ratio > 0.0 and locked:
             # one rigid body: engine + driveline + vehicle
             m_eq = equivalent_mass_kg(m_kg, p.body_wheel_inertia_total_kgm2, r,
                                       p.clutch_input_inertia_kgm2 + j_e, ratio, eta)
             f_drive = t_e * ratio * efficiency_factor(t_e * v if v != 0.0 else t_e, eta) / r
+            f_drive = min(max(f_drive, -f_adh), f_adh)  # driven tandem at its adhesion limit: wheel spin
             v_new, a, held, reaction = stick_slip_step(v, f_drive - f_i - f_w, hold_cap, m_eq, dt, V_EPS)
             t_c = t_e - j_e * (ratio / r) * a  # torque the clutch must carry to keep engine and vehicle together
             if abs(t_c) > cap:
@@ -364,6 +413,8 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
                 n_events = log_event(events, n_events, t, M_CLUTCH, 1, 0, 1)
             else:
                 f_t = t_c * ratio * efficiency_factor(t_c * v if v != 0.0 else t_c, eta) / r
+                f_spin = f_t
+                f_t = min(max(f_t, -f_adh), f_adh)
                 w_in_new = v_new * ratio / r
                 w_e_new = w_in_new
         if not (ratio > 0.0 and locked_new):
@@ -373,6 +424,8 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
             t_c = cap * (sign(slip) if slip != 0.0 else sign(t_break))
             if ratio > 0.0:
                 f_t = t_c * ratio * efficiency_factor(t_c * v if v != 0.0 else t_c, eta) / r
+                f_spin = f_t
+                f_t = min(max(f_t, -f_adh), f_adh)  # driven tandem at its adhesion limit: wheel spin
                 m_eq = equivalent_mass_kg(m_kg, p.body_wheel_inertia_total_kgm2, r, p.clutch_input_inertia_kgm2, ratio, eta)
             else:
                 f_t = 0.0
@@ -386,7 +439,8 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
                     # slip speed crossed zero: lock if the coupled system needs less than the capacity
                     m_lock = equivalent_mass_kg(m_kg, p.body_wheel_inertia_total_kgm2, r,
                                                 p.clutch_input_inertia_kgm2 + j_e, ratio, eta)
-                    a_lock = (t_e * ratio * efficiency_factor(t_e * v_new, eta) / r - f_i - f_w + reaction) / m_lock
+                    f_lock = min(max(t_e * ratio * efficiency_factor(t_e * v_new, eta) / r, -f_adh), f_adh)
+                    a_lock = (f_lock - f_i - f_w + reaction) / m_lock
                     t_req = t_e - j_e * (ratio / r) * a_lock
                     if abs(t_req) <= cap:
                         # perfectly plastic coupling: the common speed conserves angular momentum
@@ -459,6 +513,10 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
             row.hsa_mode_index = hsa.mode if hsa_enabled else -1.0
             row.valve_32_energized_flag = valve_pos
             row.engine_speed_rate_radps2 = hsa.engine_speed_rate_radps2
+            row.assist_refusal_code = hsa.refusal_code if hsa_enabled else 0.0
+            row.rear_axle_load_n = f_z_rear
+            row.adhesion_limit_n = f_adh
+            row.tyre_slip_power_w = abs(f_spin - f_t) * abs(v) if ratio > 0.0 else 0.0
             n_rec += 1
         if k == n_steps or stop:
             break

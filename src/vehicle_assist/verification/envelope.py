@@ -154,7 +154,9 @@ class Dim:
             return (self.options.index(value) + 0.5) / len(self.options)
         return (float(value) - self.lo) / (self.hi - self.lo)
 
-    def levels(self, n: int) -> list:
+    def levels(self, n) -> list:
+        if isinstance(n, (list, tuple)):  # explicit values (options of a discrete dimension, numbers of a range)
+            return list(n)
         if self.kind == "discrete":
             return list(self.options)
         if n <= 1:
@@ -217,10 +219,25 @@ def shipped_envelopes() -> dict[str, Path]:
 class Envelope:
     """A validated envelope: its dimensions, samplers and the scenario of a point."""
 
-    def __init__(self, model: EnvelopeModel, path: Path | None):
+    def __init__(self, model: EnvelopeModel, path: Path | None, narrowed: dict | None = None):
         self.model = model
         self.path = path
         self.where = str(path) if path else "envelope"
+        self.narrowed = dict(narrowed or {})  # dimension -> (lo, hi) or tuple of options (see restrict)
+
+    def restrict(self, **limits) -> "Envelope":
+        """A sub-envelope: ``restrict(driver=["steady"], **{"accelerator.rate_per_s": (0.01, 0.045)})``."""
+        for name, value in limits.items():
+            d = self.dim(name)
+            if d.kind == "discrete":
+                bad = [o for o in value if o not in d.options]
+                if bad or not value:
+                    raise InputError(f"{self.where}: restrict {name}: options {bad or value} not in {d.options}")
+            elif not (d.lo <= value[0] < value[1] <= d.hi):
+                raise InputError(f"{self.where}: restrict {name} = {value}: must lie within {d.lo:g} .. {d.hi:g}")
+        env = Envelope(self.model, self.path, {**self.narrowed, **{k: tuple(v) for k, v in limits.items()}})
+        env.__dict__["base_scenario"] = self.base_scenario
+        return env
 
     # -- dimensions ------------------------------------------------------------------------------
     @cached_property
@@ -233,6 +250,11 @@ class Envelope:
                     src = value.source if value.source != "see the profile's source" else prof.source
                     out.append(Dim(f"{pname}.{key}", "continuous", value.min, value.max, source=src))
         out += [Dim(n, "discrete", options=tuple(c.options), source=c.source) for n, c in m.choices.items()]
+        for i, d in enumerate(out):
+            if d.name in self.narrowed:
+                v = self.narrowed[d.name]
+                out[i] = (Dim(d.name, d.kind, options=tuple(v), source=d.source) if d.kind == "discrete" else
+                          Dim(d.name, d.kind, float(v[0]), float(v[1]), source=d.source, integer=d.integer))
         return out
 
     @property
@@ -269,7 +291,7 @@ class Envelope:
     def with_sets(self, sets: list[str]) -> "Envelope":
         """The same envelope with further fixed overrides on every point (e.g. a seeded defect)."""
         model = self.model.model_copy(update={"sets": list(self.model.sets) + list(sets)})
-        env = Envelope(model, self.path)
+        env = Envelope(model, self.path, self.narrowed)
         env.base_scenario  # noqa: B018  (a bad override is reported now)
         return env
 
@@ -288,7 +310,8 @@ class Envelope:
 
     def grid(self, levels: int | dict[str, int] = 3) -> list[dict]:
         """Full factorial: every option of every choice x ``levels`` equally spaced values (ends included)
-        of every continuous dimension (``levels`` may be a dict by dimension name; default 3)."""
+        of every continuous dimension (``levels`` may be a dict by dimension name, whose values are counts or
+        explicit lists of values/options; default 3)."""
         per = []
         for d in self.dims:
             n = levels.get(d.name, 3) if isinstance(levels, dict) else levels
