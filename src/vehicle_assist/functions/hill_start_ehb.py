@@ -6,13 +6,32 @@ the motor torque rises, so that the car neither rolls back nor jerks. The paper'
 
 * **Step1 IDLE** - EHB not working (the driver's pedal alone sets the pressure).
 * **Step2 SLOPE_CHECK** (``next_1``: car standing in D, driver's brake pedal released) - on a slope?
-* **Step3 HOLD** (``next_2``: |grade| >= gamma_min, uphill) - hold pressure from the grade,
-  p_hold = k_s*G*sin(gamma)*r/K_b; the command moves from the driver's pressure to p_hold without
-  passing through zero.
-* **Step4 FOLLOW** (``next_3``: accelerator pressed) - brake force F_b = F_ang - F_tq (+ F_margin),
-  F_ang = G*sin(gamma_meas), F_tq = min(T_request(pedal), T_motor)*i_0*eta/r; Stage-3 guard of the paper
-  (standing and F_tq + F_b < F_ang: never release further); while moving the release rate is limited so
-  that the jerk stays within j_max. Back to IDLE when F_tq > F_ang and v > v_start and the brake is off.
+* **Step3 HOLD** (``next_2``: |grade| >= gamma_min, uphill) - hold force K_h = k_s*m_cal*g*sin(gamma);
+  the command moves from the driver's pressure to it without passing through zero.
+* **Step4 FOLLOW** (``next_3``: accelerator pressed) - brake force F_b = K - F_tq with
+  K = k_s*F_ang + F_margin (the hold safety factor is kept until the motor really carries the grade:
+  F_b + F_tq stays at the hold force of the heaviest car, whatever the real mass), F_ang = m_cal*g*sin(gamma)
+  (+ rollback correction), F_tq = min(driver's request, torque ceiling, measured torque)*i_0*eta/r;
+  Stage-3 guard of the paper (standing and F_tq + F_b < F_ang: never release further).
+  Back to IDLE when the car moves forward (v > v_start), the brake is off and the torque ceiling has
+  reached the driver's request.
+
+Jerk (paper P8, +-0.1 m/s^3) is bounded by the assist itself, not by the driver's pedal: the net push on
+the held car N = F_t - F_b may rise only at B = jerk_design_frac*j_max*delta*m_light once it is within
+reach of the lightest car's breakaway force (m_light*g*(sin + f*cos)); after breakaway (car moving) the
+brake is released first at B with the torque ceiling frozen, then the torque ceiling rises at B to the
+driver's request. The ceiling is only ever *below* the driver's request: the assist never asks for
+traction torque the driver did not ask for (the former "torque floor" is removed).
+
+Refusal (explicit, with the computed reason as guard name and ``refusal_code`` = 1 + index in
+REFUSAL_REASONS of vehicles/ev_ehb.py): a car rolling back (v < -rollback_speed) while the applied forces
+would hold the heaviest car (F_b + F_tq >= k_s*F_ang) and the accelerometer shows they are not transmitted
+(a_meas*m_max < adhesion_ratio*(F_b + F_tq)) is adhesion-limited: ``brake_adhesion_limit`` if the brake
+alone should hold, else ``traction_limit``; rolling back with the motor at its maximum torque:
+``grade_beyond_motor_torque``. REFUSED keeps the brake applied (at least the hold force and the pressure
+at refusal), warns and requests the parking brake; the driver's pedal ends it. A driver's brake that
+cannot hold the car in IDLE (rolling back in D, same adhesion test) also refuses, keeping the pressure
+when the driver lifts the pedal.
 
 Added safety (ours, each with a test): a car that rolls back while the assist holds it raises the held
 force at once (a biased slope sensor under-estimates the grade); the driver's brake pedal always wins
@@ -21,7 +40,7 @@ control back); a lost pressure sensor, a pressure the EHB cannot build, or ``max
 assist in DEGRADED with the reason as the event: it keeps holding and releasing with the torque (without
 the Stage-3 check when the pressure sensor is lost), raises the driver warning, and after the maximum
 hold time also the parking-brake request.
-Measurements only; the controller's mass, brake gain and rolling resistance are its own calibration.
+Measurements only; the controller's masses, brake gain and rolling resistance are its own calibration.
 """
 from __future__ import annotations
 
@@ -35,13 +54,21 @@ from vehicle_assist.core.tables import interp
 
 MACHINE = StateMachine(
     "hill_start_ehb",
-    modes=("IDLE", "SLOPE_CHECK", "HOLD", "FOLLOW", "DEGRADED"),
+    modes=("IDLE", "SLOPE_CHECK", "HOLD", "FOLLOW", "DEGRADED", "REFUSED"),
     transitions=(
         Transition("IDLE", "SLOPE_CHECK", "next_1_brake_released_at_standstill"),
+        Transition("IDLE", "REFUSED", "brake_adhesion_limit"),
         Transition("SLOPE_CHECK", "HOLD", "next_2_on_uphill_slope"),
         Transition("SLOPE_CHECK", "IDLE", "level_road"),
         Transition("HOLD", "IDLE", "driver_brakes"),
         Transition("FOLLOW", "IDLE", "driver_brakes"),
+        Transition("HOLD", "REFUSED", "brake_adhesion_limit"),
+        Transition("FOLLOW", "REFUSED", "brake_adhesion_limit"),
+        Transition("FOLLOW", "REFUSED", "traction_limit"),
+        Transition("FOLLOW", "REFUSED", "grade_beyond_motor_torque"),
+        Transition("DEGRADED", "REFUSED", "brake_adhesion_limit"),
+        Transition("DEGRADED", "REFUSED", "traction_limit"),
+        Transition("DEGRADED", "REFUSED", "grade_beyond_motor_torque"),
         Transition("HOLD", "DEGRADED", "pressure_sensor_lost"),
         Transition("FOLLOW", "DEGRADED", "pressure_sensor_lost"),
         Transition("HOLD", "DEGRADED", "pressure_not_reached"),
@@ -51,21 +78,28 @@ MACHINE = StateMachine(
         Transition("FOLLOW", "IDLE", "motor_carries_the_grade"),
         Transition("DEGRADED", "IDLE", "driver_brakes"),
         Transition("DEGRADED", "IDLE", "motor_carries_the_grade"),
+        Transition("REFUSED", "IDLE", "driver_brakes"),
     ),
     doc=__doc__ or "",
 )
 TABLE = MACHINE.table()
-IDLE, SLOPE_CHECK, HOLD, FOLLOW, DEGRADED = range(5)
-(G_NEXT1, G_NEXT2, G_LEVEL, G_DRIVER_BRAKES, G_SENSOR_LOST, G_NOT_REACHED, G_MAX_HOLD, G_NEXT3,
- G_CARRIES) = range(9)
+IDLE, SLOPE_CHECK, HOLD, FOLLOW, DEGRADED, REFUSED = range(6)
+(G_NEXT1, G_ADHESION, G_NEXT2, G_LEVEL, G_DRIVER_BRAKES, G_TRACTION, G_MOTOR_LIMIT, G_SENSOR_LOST, G_NOT_REACHED,
+ G_MAX_HOLD, G_NEXT3, G_CARRIES) = range(12)
 assert MACHINE.guards == (
-    "next_1_brake_released_at_standstill", "next_2_on_uphill_slope", "level_road", "driver_brakes",
-    "pressure_sensor_lost", "pressure_not_reached", "max_hold_time_reached", "next_3_accelerator_pressed",
-    "motor_carries_the_grade",
+    "next_1_brake_released_at_standstill", "brake_adhesion_limit", "next_2_on_uphill_slope", "level_road",
+    "driver_brakes", "traction_limit", "grade_beyond_motor_torque", "pressure_sensor_lost", "pressure_not_reached",
+    "max_hold_time_reached", "next_3_accelerator_pressed", "motor_carries_the_grade",
 )
+# refusal reasons in the order of vehicles/ev_ehb.REFUSAL_REASONS (code k >= 1 is reason k-1)
+REFUSAL_GUARDS = ("brake_adhesion_limit", "traction_limit", "grade_beyond_motor_torque")
+MACHINE_GUARD_IDS = np.array([MACHINE.guard(name) for name in REFUSAL_GUARDS], dtype=np.int64)
 RELEASE_FOLLOW, RELEASE_IMMEDIATE = 0, 1
 PEDAL_STEP = 1e-4  # brake-pedal change per period that counts as moving it (pedal sensor resolution, assumed)
 RELEASE_MODES = {"follow_torque": RELEASE_FOLLOW, "immediate": RELEASE_IMMEDIATE}
+RELEASE_RAMP_S = 0.5  # brake release after breakaway: rate ramp-up time (assumed, 10 x tau_ehb)
+RELEASE_TAIL_S = 0.2  # and ease-out time constant near zero (assumed, 4 x tau_ehb)
+MOTOR_AT_LIMIT_FRAC = 0.95  # measured torque >= 95 % of the maximum counts as "at the motor's limit" (assumed)
 
 STATE_DTYPE = np.dtype([
     ("mode", "f8"),
@@ -75,30 +109,47 @@ STATE_DTYPE = np.dtype([
     ("grade_force_n", "f8"),           # F_ang (incl. the rollback correction)
     ("rollback_correction_n", "f8"),
     ("torque_force_n", "f8"),          # F_tq
-    ("torque_force_prev_n", "f8"),
     ("hold_pressure_pa", "f8"),
     ("hold_time_s", "f8"),
     ("mode_time_s", "f8"),
     ("parking_brake_request_flag", "f8"),
     ("slope_checked_flag", "f8"),          # next_1 fires once per brake application (no IDLE/SLOPE_CHECK flapping)
-    ("torque_floor_nm", "f8"),             # motor-torque request floor while holding (torque coordination)
+    ("torque_ceiling_nm", "f8"),           # motor-torque ceiling (<= the driver's request) while the assist is active
+    ("ceiling_force_n", "f8"),             # the ceiling as a force at the wheels
+    ("brake_force_command_n", "f8"),       # F_b the assist commands
+    ("net_push_n", "f8"),                  # N = F_t - F_b commanded (rate-limited near breakaway)
+    ("mass_ratio", "f8"),
+    ("release_rate_n_per_s", "f8"),        # brake release rate after breakaway (ramped, smooth for the jerk)                  # lower bound of the car's mass / m_light, proven by holding at N
+    ("refusal_code", "f8"),                # 0 none, k = 1 + index in REFUSAL_GUARDS
     ("warning_flag", "f8"),
 ])
 
 
 def initial_state() -> np.recarray:
-    return np.zeros(1, dtype=STATE_DTYPE).view(np.recarray)
+    s = np.zeros(1, dtype=STATE_DTYPE).view(np.recarray)
+    s.torque_ceiling_nm[:] = 1e9
+    return s
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def step(c, m, p, dt, t, machine_id, events, n_events):
     """One controller period; ``c`` state, ``m`` measurements, ``p`` vehicle record. Returns the event count."""
     g_acc = 9.81
-    mass = p.hill_start_assist_assumed_mass_kg
+    mass = p.hill_start_assist_calibration_mass_kg
+    k_s = p.hill_start_assist_hold_safety_frac
+    m_max = k_s * mass  # the heaviest car the hold covers
     r = p.hill_start_assist_wheel_radius_m
     k_b = p.hill_start_assist_brake_gain_nm_per_pa
+    f_coef = p.hill_start_assist_rolling_resistance_coeff
     i0_eta = p.motor_reduction_ratio * p.motor_efficiency_frac
+    f_motor_max = p.motor_max_torque_nm * i0_eta / r
+    jerk_limit = p.hill_start_assist_jerk_limit_flag > 0.5
+    # force-rise budget that keeps the lightest car within the jerk bound: dN/dt <= frac*j_max*delta*m_light
+    budget = (p.hill_start_assist_jerk_design_frac * p.hill_start_assist_jerk_max_mps3
+              * p.hill_start_assist_rotating_mass_factor * p.hill_start_assist_lightest_mass_kg)
     standing = abs(m.vehicle_speed_mps) < p.hill_start_assist_standstill_speed_mps
+    moving_forward = m.vehicle_speed_mps >= p.hill_start_assist_standstill_speed_mps
+    rolling_back = m.vehicle_speed_mps < -p.hill_start_assist_rollback_speed_mps
     brake_applied = m.brake_pedal_frac >= p.hill_start_assist_brake_applied_frac
     # next_1 fires while the pedal is being released (P6 / spec 2.3), so the EHB takes over the pressure
     # before it falls below what holds the car; 'driver brakes' is the opposite action (pedal pressed more)
@@ -106,41 +157,38 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     being_released = pedal_rate < -PEDAL_STEP and c.brake_pedal_prev_frac > 0.0
     pressing = brake_applied and pedal_rate > PEDAL_STEP
     mode = int(c.mode)
+    active = mode == HOLD or mode == FOLLOW or mode == DEGRADED
+    pressure_ok = m.brake_pressure_ok > 0.5
 
     # slope from the longitudinal accelerometer while the car stands (reads g*sin(gamma) at rest)
     if standing and m.longitudinal_accel_ok > 0.5 and (mode == IDLE or mode == SLOPE_CHECK):
         c.grade_estimate_rad = math.asin(min(max(m.longitudinal_accel_mps2 / g_acc, -1.0), 1.0))
     gamma = c.grade_estimate_rad
-    # a car rolling back while held: the grade force was under-estimated -> raise it at once; only while
-    # the EHB delivers what is asked (a pressure it cannot build is not cured by asking more), and never
-    # beyond the car's weight
-    delivering = m.brake_pressure_ok > 0.5 and m.brake_pressure_pa >= 0.9 * c.pressure_command_pa
-    if ((mode == HOLD or mode == FOLLOW or mode == DEGRADED) and delivering
-            and m.vehicle_speed_mps < -p.hill_start_assist_rollback_speed_mps):
-        c.rollback_correction_n += p.hill_start_assist_rollback_gain_n_per_s * dt
-    c.grade_force_n = min(mass * g_acc * math.sin(gamma) + c.rollback_correction_n, mass * g_acc)
     t_request = interp(p.motor_pedal_map_x, p.motor_pedal_map_y, p.motor_pedal_map_n, p.motor_pedal_map_extrap,
                        p.motor_pedal_map_interp, m.accelerator_frac)
     t_motor = m.motor_torque_nm if m.motor_torque_ok > 0.5 else 0.0
-    # torque coordination: while the car stands on the assist's brake, the motor keeps the torque that the
-    # measured brake force does not yet carry (F_t >= F_ang + F_margin - F_b): a driver backing off the pedal
-    # lowers the torque only as fast as the EHB re-builds; the composition applies max(driver, floor)
-    if (mode == HOLD or mode == FOLLOW or mode == DEGRADED) and standing and m.brake_pressure_ok > 0.5:
-        f_brake = k_b * m.brake_pressure_pa / r
-        f_margin = p.hill_start_assist_margin_rolling_frac * mass * g_acc * p.hill_start_assist_rolling_resistance_coeff
-        needed_nm = max(c.grade_force_n + f_margin - f_brake, 0.0) * r / i0_eta
-        c.torque_floor_nm = min(needed_nm, max(t_motor, 0.0))  # keep what the motor has, never ask for more
-    else:
-        c.torque_floor_nm = 0.0
-    # F_tq credits the driver's request, not the floor: the brake re-builds for what the driver wants, and
-    # the floor falls as it does
-    c.torque_force_prev_n = c.torque_force_n
-    c.torque_force_n = max(min(t_request, t_motor), 0.0) * i0_eta / r
-    margin = p.hill_start_assist_margin_rolling_frac * mass * g_acc * p.hill_start_assist_rolling_resistance_coeff * math.cos(gamma)
-    c.hold_pressure_pa = p.hill_start_assist_hold_safety_frac * max(c.grade_force_n, 0.0) * r / k_b
-    pressure_ok = m.brake_pressure_ok > 0.5
+    f_driver = max(t_request, 0.0) * i0_eta / r
+    f_motor = max(t_motor, 0.0) * i0_eta / r
+    f_brake_meas = k_b * max(m.brake_pressure_pa, 0.0) / r if pressure_ok else k_b * c.pressure_command_pa / r
 
-    g = np.zeros(9, dtype=np.bool_)
+    # refusal tests (rolling back): are the applied forces transmitted? (accelerometer reads the transmitted
+    # forward force per mass while the car rolls back: a + g*sin(gamma) = (F_b + F_t + F_f)/m)
+    applied = f_brake_meas + (f_motor if (mode == FOLLOW or mode == DEGRADED) else 0.0)
+    a_meas = m.longitudinal_accel_mps2 if m.longitudinal_accel_ok > 0.5 else 1e9
+    not_transmitted = rolling_back and a_meas * m_max < p.hill_start_assist_adhesion_ratio_frac * applied
+    hold_heaviest = k_s * mass * g_acc * math.sin(gamma) if active else 0.0
+    # a car rolling back while held: the grade force was under-estimated -> raise it at once; only while
+    # the EHB delivers what is asked and the forces reach the ground (more pressure does not cure a
+    # pressure the EHB cannot build, nor sliding tyres), and never beyond the car's weight
+    delivering = pressure_ok and m.brake_pressure_pa >= 0.9 * c.pressure_command_pa
+    if (active or mode == REFUSED) and delivering and rolling_back and not not_transmitted:
+        c.rollback_correction_n += p.hill_start_assist_rollback_gain_n_per_s * dt
+    c.grade_force_n = min(mass * g_acc * math.sin(gamma) + c.rollback_correction_n, mass * g_acc)
+    margin = p.hill_start_assist_margin_rolling_frac * mass * g_acc * f_coef * math.cos(gamma)
+    k_hold = k_s * max(c.grade_force_n, 0.0) + margin  # K: hold force kept until the motor carries the grade
+    c.hold_pressure_pa = k_s * max(c.grade_force_n, 0.0) * r / k_b
+
+    g = np.zeros(12, dtype=np.bool_)
     g[G_NEXT1] = being_released and standing and m.gear_lever_index >= 1.0 and c.slope_checked_flag < 0.5
     g[G_NEXT2] = gamma >= p.hill_start_assist_slope_min_rad
     g[G_LEVEL] = gamma < p.hill_start_assist_slope_min_rad
@@ -148,13 +196,21 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     # not hold the car does not end the hold: the EHB applies the larger of the two requests anyway)
     driver_request_pa = m.brake_pedal_frac * p.ehb_pedal_full_pressure_pa
     g[G_DRIVER_BRAKES] = pressing and driver_request_pa >= c.pressure_command_pa
+    if mode == IDLE:
+        # the driver's own brake cannot hold the car in D (sliding tyres): keep it applied
+        g[G_ADHESION] = (m.gear_lever_index >= 1.0 and brake_applied and not_transmitted)
+    else:
+        g[G_ADHESION] = not_transmitted and applied >= hold_heaviest and f_brake_meas >= hold_heaviest
+    g[G_TRACTION] = not_transmitted and applied >= hold_heaviest and f_brake_meas < hold_heaviest
+    g[G_MOTOR_LIMIT] = rolling_back and not not_transmitted and t_motor >= MOTOR_AT_LIMIT_FRAC * p.motor_max_torque_nm
     g[G_SENSOR_LOST] = not pressure_ok
     g[G_NOT_REACHED] = (pressure_ok and c.mode_time_s > p.hill_start_assist_settle_time_s
                         and m.brake_pressure_pa < 0.9 * c.pressure_command_pa)
     g[G_MAX_HOLD] = c.hold_time_s > p.hill_start_assist_max_hold_time_s
     g[G_NEXT3] = m.accelerator_frac > p.hill_start_assist_accelerator_on_frac
-    g[G_CARRIES] = (c.torque_force_n > c.grade_force_n and m.vehicle_speed_mps > p.hill_start_assist_start_speed_mps
-                    and c.pressure_command_pa <= 1.0)
+    caught_up = (not jerk_limit) or c.ceiling_force_n >= f_driver - 1e-6
+    g[G_CARRIES] = (moving_forward and m.vehicle_speed_mps > p.hill_start_assist_start_speed_mps
+                    and c.pressure_command_pa <= 1.0 and caught_up)
 
     new_mode, guard = next_mode(TABLE, mode, g)
     if new_mode != mode:
@@ -163,10 +219,25 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
         c.mode_time_s = 0.0
         if new_mode == HOLD:
             c.pressure_command_pa = max(m.brake_pressure_pa, 0.0) if pressure_ok else c.hold_pressure_pa
+            c.brake_force_command_n = k_b * c.pressure_command_pa / r
+            c.ceiling_force_n = 0.0
             c.hold_time_s = 0.0
+        elif new_mode == FOLLOW:
+            c.brake_force_command_n = k_b * c.pressure_command_pa / r
+            c.ceiling_force_n = min(f_motor, f_driver)
+            c.net_push_n = c.ceiling_force_n - c.brake_force_command_n
+            c.mass_ratio = 1.0
         elif new_mode == DEGRADED:
             c.warning_flag = 1.0
             c.parking_brake_request_flag = 1.0 if guard == G_MAX_HOLD else 0.0
+        elif new_mode == REFUSED:
+            c.warning_flag = 1.0
+            c.parking_brake_request_flag = 1.0
+            for k in range(len(REFUSAL_GUARDS)):
+                if MACHINE_GUARD_IDS[k] == guard:
+                    c.refusal_code = k + 1.0
+            # keep at least what is applied now (the driver's or the assist's pressure)
+            c.pressure_command_pa = max(c.pressure_command_pa, max(m.brake_pressure_pa, 0.0) if pressure_ok else 0.0)
         elif new_mode == IDLE:
             if mode == SLOPE_CHECK:
                 c.slope_checked_flag = 1.0
@@ -174,6 +245,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
             c.rollback_correction_n = 0.0
             c.warning_flag = 0.0
             c.parking_brake_request_flag = 0.0
+            c.refusal_code = 0.0
     else:
         c.mode_time_s += dt
     if new_mode == HOLD or new_mode == FOLLOW or new_mode == DEGRADED:
@@ -184,33 +256,88 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
         c.slope_checked_flag = 0.0  # a new brake application re-arms next_1
     c.brake_pedal_prev_frac = m.brake_pedal_frac
 
-    # pressure command
+    # pressure command and torque ceiling
     p_cmd = c.pressure_command_pa
+    ceiling = 1e9
     if new_mode == HOLD:
-        # from the driver's pressure to p_hold with the EHB dynamics, never through zero
-        p_cmd = min(c.hold_pressure_pa, p.ehb_max_pressure_pa)
+        # from the driver's pressure to the hold force, never through zero
+        p_cmd = min(k_hold * r / k_b, p.ehb_max_pressure_pa)
+        c.brake_force_command_n = k_b * p_cmd / r
+        c.torque_force_n = 0.0
     elif new_mode == FOLLOW or new_mode == DEGRADED:
+        f_cap_prev = c.ceiling_force_n
+        f_b_prev = c.brake_force_command_n
         if int(p.hill_start_assist_release_mode) == RELEASE_IMMEDIATE:
-            target = 0.0  # negative control of the spec (S5): release as soon as the pedal moves
+            f_b = 0.0  # negative control of the spec (S5): release as soon as the pedal moves
+            f_cap = f_driver
+        elif not jerk_limit:
+            # negative control of the spec (S6): torque as the driver asks, brake follows it at once
+            f_cap = f_driver
+            f_b = max(k_hold - min(f_driver, f_motor), 0.0)
+        elif moving_forward:
+            # the car moves forward with the brake on: the motor carries the grade. The net push keeps rising
+            # at the budget B, but the brake goes first at 2B while the torque ceiling is lowered at B (only
+            # ever below the driver's request), so the drag is gone in half the time; then the ceiling rises
+            # at B to the driver's request
+            # at B to the driver's request. The ceiling is set from the *measured* brake force, so the torque
+            # makes up for the EHB's lag and the net push stays smooth when the brake reaches zero
+            rate = max(c.mass_ratio, 1.0) * budget  # the mass proven before breakaway
+            # the release rate ramps from the standing split (rate/2) to 2*rate within RELEASE_RAMP_S and eases
+            # out over RELEASE_TAIL_S near zero: no step in the brake-force rate, which the EHB lag would turn
+            # into a jerk
+            c.release_rate_n_per_s = min(2.0 * rate, c.release_rate_n_per_s + 1.5 * rate * dt / RELEASE_RAMP_S)
+            f_b = max(f_b_prev - min(c.release_rate_n_per_s, f_b_prev / RELEASE_TAIL_S) * dt, 0.0)
+            if f_b < 1.0:
+                f_b = 0.0
+            n_prev = min(c.net_push_n, f_cap_prev - f_brake_meas)  # from the measured brake at the switch
+            f_cap = max(min(n_prev + rate * dt + f_brake_meas, f_driver), 0.0)
+            c.net_push_n = f_cap - f_brake_meas
         else:
-            target = max(c.grade_force_n - c.torque_force_n + margin, 0.0) * r / k_b
-        p_meas = m.brake_pressure_pa if pressure_ok else c.pressure_command_pa
-        if standing and c.torque_force_n + k_b * p_meas / r < c.grade_force_n:
-            target = max(target, c.pressure_command_pa)  # Stage 3: released too fast -> no further release
-        if target < c.pressure_command_pa and not standing:
-            # jerk-aware release while moving: -dF_b/dt <= j_max*delta*m - dF_t/dt
-            d_ft = (c.torque_force_n - c.torque_force_prev_n) / dt
-            max_drop = r / k_b * max(0.0, p.hill_start_assist_jerk_max_mps3 * p.hill_start_assist_rotating_mass_factor
-                                     * mass - d_ft) * dt
-            target = max(target, c.pressure_command_pa - max_drop)
-        p_cmd = min(target, p.ehb_max_pressure_pa)
+            # standing: net push N = F_t - F_b, rate-limited near the lightest car's breakaway
+            f_d = min(f_driver, f_motor_max)
+            if f_d >= f_motor_max * 0.999 and k_hold > f_motor_max:
+                n_des = f_motor_max  # driver asks the motor's maximum: allow the brake to go (watched for rollback)
+            else:
+                n_des = f_d - max(k_hold - f_d, 0.0)
+            n_prev = c.net_push_n
+            n_light = p.hill_start_assist_lightest_mass_kg * g_acc * (math.sin(gamma) + f_coef * math.cos(gamma))
+            n_window = 0.9 * n_light
+            # a car still held at net push N weighs at least N/(g*(sin + f*cos)): the budget grows with it
+            if n_light > 0.0:
+                c.mass_ratio = max(1.0, n_prev / n_light)
+            n_cmd = n_des
+            if n_des > n_prev:  # a rise: free up to the window, then at the budget
+                n_cmd = min(n_des, max(n_prev, n_window) + c.mass_ratio * budget * dt)
+            c.net_push_n = n_cmd
+            c.release_rate_n_per_s = 0.5 * c.mass_ratio * budget
+            f_cap = min(max(0.5 * (n_cmd + k_hold), n_cmd), f_d)
+            f_b = max(f_cap - n_cmd, 0.0)
+            # the brake never credits more motor force than the motor gives (lag, fault) or the driver asks
+            f_b = max(f_b, k_hold - min(f_cap, f_driver, f_motor)) if n_des < f_motor_max else f_b
+            f_b = max(f_b, 0.0)
+        c.torque_force_n = min(f_cap, f_driver, f_motor)
+        if standing and c.torque_force_n + f_brake_meas < c.grade_force_n and pressure_ok:
+            f_b = max(f_b, f_b_prev)  # Stage 3: released too fast -> no further release
+        if rolling_back and int(p.hill_start_assist_release_mode) != RELEASE_IMMEDIATE:
+            f_b = max(f_b, k_hold)  # rolling back: re-apply the hold force at once
+        c.ceiling_force_n = f_cap
+        c.brake_force_command_n = f_b
+        p_cmd = min(f_b * r / k_b, p.ehb_max_pressure_pa)
+        ceiling = f_cap * r / i0_eta
+    elif new_mode == REFUSED:
+        p_cmd = min(max(c.pressure_command_pa, k_hold * r / k_b), p.ehb_max_pressure_pa)
+        c.brake_force_command_n = k_b * p_cmd / r
     else:
         p_cmd = 0.0
+        c.brake_force_command_n = 0.0
+        c.torque_force_n = 0.0
     c.pressure_command_pa = p_cmd
+    c.torque_ceiling_nm = ceiling
     return n_events
+
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def is_active(c):
     mode = int(c.mode)
-    return mode == HOLD or mode == FOLLOW or mode == DEGRADED
+    return mode == HOLD or mode == FOLLOW or mode == DEGRADED or mode == REFUSED

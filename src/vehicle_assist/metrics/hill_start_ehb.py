@@ -1,7 +1,9 @@
 """Metrics of the EV hill start with EHB (paper 001, hill_start_ehb.md section 5), vectorised over runs.
 
-* ``hold_pressure_ratio``: lowest measured/commanded pressure while the assist holds (HOLD), counted from
-  the EHB settling time (0.25 s = 5 tau_ehb) after entering HOLD; criterion 3 asks >= 0.95.
+* ``hold_force_ratio``: lowest brake holding capacity K_b_tot*p/r over the car's *true* grade resistance
+  m*g*sin(gamma) (plant channels, not the controller's estimate) while the assist holds (HOLD), counted
+  from the EHB settling time (0.25 s = 5 tau_ehb) after entering HOLD; criterion 3 (p >= 0.95*p_hold,
+  p_hold = k_s*G*sin(gamma)*r/K_b) asks >= 0.95*k_s = 1.14 with k_s = 1.2.
 * ``residual_pressure_at_p2_pa``: brake pressure at the first sample where the drive force reaches the
   grade resistance (point P2 of the paper's Fig. 3); the paper asks it to be non-zero (P4).
 * ``release_after_start_s``: from the first sample with v > 0.05 m/s to the brake pressure below
@@ -9,6 +11,10 @@
 * ``hold_entered_flag``: 1 if the assist entered HOLD (criterion 7: never on a level road).
 * ``pressure_reapply_pa``: largest rise of the brake pressure over its running minimum while the
   assist follows the torque (criterion 8: a hesitating driver makes it re-apply).
+* ``assist_refusal_code``: largest refusal code of the run (0 none; k = 1 + index in
+  vehicles/ev_ehb.REFUSAL_REASONS).
+* ``torque_above_driver_nm``: largest motor-torque command above the driver's own request (issue #7:
+  the assist must never ask for traction torque the driver did not ask for; 0 when it does not).
 """
 from __future__ import annotations
 
@@ -16,7 +22,7 @@ import numpy as np
 
 from vehicle_assist.core.trace import Trace
 from vehicle_assist.functions import hill_start_ehb as H
-from vehicle_assist.metrics.common import Metric, register
+from vehicle_assist.metrics.common import METRICS, Metric, register
 
 SETTLE_S = 0.25  # 5 x tau_ehb (hill_start_ehb.md 5, criterion 3)
 START_SPEED_MPS = 0.05  # v_start (hill_start_ehb.md 3)
@@ -39,15 +45,16 @@ def _take(values: np.ndarray, index: np.ndarray) -> np.ndarray:
     return values[np.arange(len(index)), index]
 
 
-def hold_pressure_ratio(trace: Trace):
-    """min(p / p_cmd) over HOLD samples at least SETTLE_S after entering HOLD (NaN if never held)."""
+def hold_force_ratio(trace: Trace):
+    """min(brake capacity / true grade resistance) over HOLD samples at least SETTLE_S after entering HOLD
+    (NaN if never held)."""
     t = np.asarray(trace["time_s"], dtype=np.float64)
     mode = _ch(trace, "hsa_mode_index")
     hold = mode == H.HOLD
     i0, found = _first(hold)
     settled = hold & (t[None, :] >= t[i0][:, None] + SETTLE_S)
     with np.errstate(invalid="ignore", divide="ignore"):
-        ratio = _ch(trace, "brake_pressure_pa") / _ch(trace, "hsa_pressure_command_pa")
+        ratio = _ch(trace, "service_brake_capacity_n") / _ch(trace, "grade_resistance_n")
     ratio = np.where(settled, ratio, np.inf)
     best = np.min(ratio, axis=-1)
     return _out(np.where(found & settled.any(axis=-1), best, np.nan), trace)
@@ -87,9 +94,22 @@ def pressure_reapply_pa(trace: Trace):
     return _out(np.max(rise, axis=-1), trace)
 
 
+def assist_refusal_code(trace: Trace):
+    """Largest refusal code of the run (0 = the assist never refused)."""
+    return _out(np.max(_ch(trace, "assist_refusal_code"), axis=-1), trace)
+
+
+def torque_above_driver_nm(trace: Trace):
+    """max(motor torque command - driver's request, 0) over the run."""
+    excess = _ch(trace, "motor_torque_request_nm") - _ch(trace, "driver_torque_request_nm")
+    return _out(np.maximum(np.max(excess, axis=-1), 0.0), trace)
+
+
 for _m in (
-    Metric("hold_pressure_ratio", hold_pressure_ratio, ("time_s", "hsa_mode_index", "brake_pressure_pa", "hsa_pressure_command_pa"),
-           "lowest pressure / hold command while the EV assist holds (after settling)"),
+    Metric("hold_force_ratio", hold_force_ratio, ("time_s", "hsa_mode_index", "service_brake_capacity_n", "grade_resistance_n"),
+           "lowest brake capacity / true grade resistance while the EV assist holds (after settling)"),
+    Metric("torque_above_driver_nm", torque_above_driver_nm, ("motor_torque_request_nm", "driver_torque_request_nm"),
+           "largest motor-torque command above the driver's request"),
     Metric("residual_pressure_at_p2_pa", residual_pressure_at_p2_pa, ("drive_force_n", "grade_resistance_n", "brake_pressure_pa"),
            "brake pressure when the drive force first reaches the grade resistance (P2 of paper 001)"),
     Metric("release_after_start_s", release_after_start_s, ("time_s", "speed_mps", "brake_pressure_pa"),
@@ -100,3 +120,7 @@ for _m in (
            "largest re-application of brake pressure while following the torque"),
 ):
     register(_m)
+# the same metric serves the truck (metrics/hill_start.py): register it once, whichever module comes first
+if "assist_refusal_code" not in METRICS:
+    register(Metric("assist_refusal_code", assist_refusal_code, ("assist_refusal_code",),
+                    "largest refusal code (0 none, k = 1 + index in the vehicle's REFUSAL_REASONS)"))

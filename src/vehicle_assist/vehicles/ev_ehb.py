@@ -7,6 +7,12 @@ then the motor torque lag, the EHB pressure, and the vehicle with stick/slip at 
     F_t = T_m*i_0*eta/r        F_b_cap = K_b_tot*p/r,  K_b_tot = 2*K_b_front + 2*K_b_rear
     delta*m*dv/dt = F_t - F_f - F_w - F_i - F_b       (brake and rolling resistance are reactions at rest)
     delta*m = m + sum(J_w)/r^2 + J_m*i_0^2*eta/r^2
+
+Tyre adhesion (issue #7, common.md 9): axle loads with the static split and the grade (and previous-step
+acceleration) load transfer, F_zf = m*(g*cos*l_r - (a + g*sin)*h)/l, F_zr = m*g*cos - F_zf; the drive
+force is limited to mu*F_z of the driven axle, each axle's brake reaction to what its tyres can still
+transmit (driven axle: mu*F_z -/+ the drive force), mu = road.friction_mu at the car (road_friction_at).
+Lumped: no wheel-spin or lock-up dynamics (the tyre force saturates Coulomb-like at mu*F_z).
 """
 from __future__ import annotations
 
@@ -39,6 +45,7 @@ from vehicle_assist.vehicles.common import (
     apply_events,
     driver_inputs,
     road_at,
+    road_friction_at,
     sensor_delay_buffers,
 )
 
@@ -61,6 +68,9 @@ EVENT_SIGNALS = ("speed_mps", "position_m", "motor_torque_nm", "brake_pressure_p
 INPUTS = ("accelerator", "brake_pedal", "gear_lever")
 ACTUATORS: tuple[str, ...] = ("ehb",)  # actuator fault: ehb limited (limit_bar = ...)
 DEFAULT_GEAR_INDEX = 1  # D
+# reasons for which the assist refuses a hold or a start (code k >= 1 in assist_refusal_code is
+# REFUSAL_REASONS[k-1]); they are the guard names of the refusal rows of the hill_start_ehb machine
+REFUSAL_REASONS: tuple[str, ...] = hill_start_ehb.REFUSAL_GUARDS
 
 CHANNELS: dict[str, str] = {
     "time_s": "time since the start of the run",
@@ -78,7 +88,8 @@ CHANNELS: dict[str, str] = {
     "vehicle_held_flag": "1 while held at exactly zero speed by static friction",
     "motor_speed_radps": "motor (rotor) speed",
     "motor_torque_nm": "motor torque (after the torque lag)",
-    "motor_torque_request_nm": "motor torque requested by the VCU",
+    "motor_torque_request_nm": "motor torque command (the driver's request, lowered by the assist's ceiling)",
+    "driver_torque_request_nm": "motor torque the driver's accelerator asks for (VCU pedal map)",
     "brake_pressure_pa": "EHB (wheel-cylinder) pressure",
     "brake_pressure_command_pa": "EHB pressure command",
     "accelerator_frac": "driver accelerator pedal",
@@ -88,8 +99,14 @@ CHANNELS: dict[str, str] = {
     "hsa_pressure_command_pa": "pressure requested by the hill-start assist",
     "grade_force_estimate_n": "F_ang: grade force the assist estimates from the slope sensor",
     "torque_force_estimate_n": "F_tq: drive force the assist credits to the motor",
-    "parking_brake_request_flag": "1 when the assist asks for the parking brake (maximum hold time reached)",
-    "warning_flag": "1 while the assist warns the driver (degraded)",
+    "parking_brake_request_flag": "1 when the assist asks for the parking brake (maximum hold time reached, refusal)",
+    "warning_flag": "1 while the assist warns the driver (degraded, refused)",
+    "assist_refusal_code": "0, or 1 + index in REFUSAL_REASONS while the assist refuses a hold or a start",
+    "motor_force_n": "motor torque at the wheels before the tyre limit, T_m*i_0*eta/r",
+    "torque_ceiling_nm": "the assist's motor-torque ceiling (below the driver's request; 1e9 = none)",
+    "front_axle_load_n": "F_zf with the grade (and acceleration) load transfer",
+    "rear_axle_load_n": "F_zr",
+    "friction_mu": "tyre-road adhesion coefficient at the car",
 }
 TRACE_DTYPE = np.dtype([(name, "f8") for name in CHANNELS])
 MACHINES = (
@@ -164,6 +181,17 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
     n_rec = np.int64(0)
     tick = np.int64(0)
     m_eq = equivalent_mass_kg(m_kg, p.body_wheel_inertia_total_kgm2, r, p.motor_rotor_inertia_kgm2, i0, eta)
+    k_front = p.brakes_front_gain_nm_per_pa
+    k_rear = p.brakes_rear_gain_nm_per_pa
+    wheelbase = p.chassis_wheelbase_m
+    l_f = p.chassis_cg_to_front_axle_m
+    l_r = wheelbase - l_f
+    h_cg = p.chassis_cg_height_m
+    rear_driven = p.chassis_driven_axle > 0.5
+    f_motor = 0.0
+    f_zf = 0.0
+    f_zr = 0.0
+    mu = 1.0
 
     # the road at the start position, so that the first sensor sample reads the real grade
     slope, f_coeff = road_at(s, x)
@@ -221,8 +249,8 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
             # brake by wire: the larger of the driver's and the assist's pressure request
             pressure_command = max(vcu.brake_pressure_command_pa, hsa.pressure_command_pa) if hsa_active \
                 else vcu.brake_pressure_command_pa
-            # torque coordination: the motor gets max(driver request, the assist's floor) while it holds
-            torque_command = max(vcu.torque_request_nm, hsa.torque_floor_nm) if hsa_active else vcu.torque_request_nm
+            # torque coordination: the assist may only lower the driver's request (a rate ceiling), never raise it
+            torque_command = min(vcu.torque_request_nm, hsa.torque_ceiling_nm) if hsa_active else vcu.torque_request_nm
             tick += 1
 
         # forces at t from the state at t
@@ -231,18 +259,33 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
         f_w = aero_drag_n(p.body_drag_area_m2, v)
         f_roll_cap = rolling_resistance_capacity_n(m_kg, slope, f_coeff)
         f_b_cap = k_b * pressure / r
-        f_t = t_m * i0 * efficiency_factor(t_m * v if v != 0.0 else t_m, eta) / r
+        f_motor = t_m * i0 * efficiency_factor(t_m * v if v != 0.0 else t_m, eta) / r
+        # axle loads (static split + grade and acceleration transfer) and the tyre adhesion limit
+        mu = road_friction_at(s, x)
+        cos_s = math.cos(slope)
+        f_zf = m_kg * (G * cos_s * l_r - (min(max(a, -G), G) + G * math.sin(slope)) * h_cg) / wheelbase
+        f_zf = min(max(f_zf, 0.0), m_kg * G * cos_s)
+        f_zr = m_kg * G * cos_s - f_zf
+        f_z_driven = f_zr if rear_driven else f_zf
+        f_z_free = f_zf if rear_driven else f_zr
+        b_driven = (k_rear if rear_driven else k_front) * pressure / r
+        b_free = (k_front if rear_driven else k_rear) * pressure / r
+        f_t = min(max(f_motor, -mu * f_z_driven), mu * f_z_driven)
+        net = f_t - f_i - f_w
+        d = (1.0 if v > 0.0 else -1.0) if abs(v) >= V_EPS else (1.0 if net > 0.0 else -1.0)
+        # brake reaction against the motion d that the tyres can still transmit
+        f_b_eff = min(b_driven, max(mu * f_z_driven + d * f_t, 0.0)) + min(b_free, mu * f_z_free)
         was_held = held
-        v_new, a, held, reaction = stick_slip_step(v, f_t - f_i - f_w, f_roll_cap + f_b_cap, m_eq, dt, V_EPS)
+        v_new, a, held, reaction = stick_slip_step(v, net, f_roll_cap + f_b_eff, m_eq, dt, V_EPS)
         if held:
-            f_b = min(max(reaction, -f_b_cap), f_b_cap)
+            f_b = min(max(reaction, -f_b_eff), f_b_eff)
             f_roll = reaction - f_b
             p_brake = 0.0
         else:
             d = sign(reaction)
-            f_b = d * f_b_cap
+            f_b = d * f_b_eff
             f_roll = d * f_roll_cap
-            p_brake = f_b_cap * abs(v)
+            p_brake = f_b_eff * abs(v)
 
         if k % rec_every == 0 and n_rec < tr.shape[0]:
             row = tr[n_rec]
@@ -262,6 +305,7 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
             row.motor_speed_radps = v * i0 / r
             row.motor_torque_nm = t_m
             row.motor_torque_request_nm = torque_command
+            row.driver_torque_request_nm = vcu.torque_request_nm
             row.brake_pressure_pa = pressure
             row.brake_pressure_command_pa = pressure_command
             row.hsa_mode_index = hsa.mode if hsa_enabled else -1.0
@@ -270,6 +314,12 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
             row.torque_force_estimate_n = hsa.torque_force_n
             row.parking_brake_request_flag = hsa.parking_brake_request_flag
             row.warning_flag = hsa.warning_flag
+            row.assist_refusal_code = hsa.refusal_code
+            row.motor_force_n = f_motor
+            row.torque_ceiling_nm = hsa.torque_ceiling_nm if hsa_active else 1e9
+            row.front_axle_load_n = f_zf
+            row.rear_axle_load_n = f_zr
+            row.friction_mu = mu
             row.accelerator_frac = inputs[IN_ACCELERATOR]
             row.brake_pedal_frac = inputs[IN_BRAKE_PEDAL]
             row.gear_index = round(inputs[IN_GEAR_LEVER])
@@ -302,6 +352,8 @@ def derived(flat: dict) -> dict:
     k_f = brake_gain_nm_per_pa(faces, mu, piston_area_m2(flat["brakes_front_piston_diameter_m"]), flat["brakes_front_effective_radius_m"], eff)
     k_r = brake_gain_nm_per_pa(faces, mu, piston_area_m2(flat["brakes_rear_piston_diameter_m"]), flat["brakes_rear_effective_radius_m"], eff)
     out["brakes_total_gain_nm_per_pa"] = 2.0 * k_f + 2.0 * k_r
+    out["brakes_front_gain_nm_per_pa"] = 2.0 * k_f
+    out["brakes_rear_gain_nm_per_pa"] = 2.0 * k_r
     return out
 
 

@@ -161,6 +161,21 @@ class HydraulicBrakes(Strict):
     friction_faces_count: Annotated[float, Field(ge=1, le=2)]
 
 
+class EvChassis(Strict):
+    """Axle geometry of the EV for the static axle loads with grade load transfer (common.md 9)."""
+
+    wheelbase_m: Annotated[float, Field(gt=1.0, le=5.0)]
+    cg_to_front_axle_m: Annotated[float, Field(gt=0.1, le=4.9)]
+    cg_height_m: Annotated[float, Field(gt=0.1, le=2.0)]
+    driven_axle: Literal["front", "rear"]
+
+    @model_validator(mode="after")
+    def _inside(self):
+        if not self.cg_to_front_axle_m < self.wheelbase_m:
+            raise ValueError("cg_to_front_axle_m must be below wheelbase_m (the centre of gravity lies between the axles)")
+        return self
+
+
 class Ehb(Strict):
     """Electro-hydraulic brake actuator (hill_start_ehb.md 2.5) and its by-wire pedal map."""
 
@@ -220,7 +235,11 @@ class HillStartEhb(Strict):
     enabled_flag: Annotated[int, Field(ge=0, le=1)]
     period_s: Annotated[float, Field(ge=1e-4, le=0.1)]
     release_mode: Literal["follow_torque", "immediate"]
-    assumed_mass_kg: Annotated[float, Field(ge=100, le=100000)]
+    calibration_mass_kg: Annotated[float, Field(ge=100, le=100000)]
+    lightest_mass_kg: Annotated[float, Field(ge=100, le=100000)]
+    jerk_limit_flag: Annotated[int, Field(ge=0, le=1)]
+    jerk_design_frac: Annotated[float, Field(gt=0, le=1)]
+    adhesion_ratio_frac: Annotated[float, Field(gt=0, lt=1)]
     wheel_radius_m: Annotated[float, Field(ge=0.1, le=1.5)]
     brake_gain_nm_per_bar: Annotated[float, Field(gt=0, le=10000)]
     rolling_resistance_coeff: Annotated[float, Field(ge=0, le=0.2)]
@@ -274,6 +293,7 @@ class EvEhb(Strict):
     description: str
     source: str
     body: Body
+    chassis: EvChassis
     motor: TractionMotor
     brakes: HydraulicBrakes
     ehb: Ehb
@@ -286,7 +306,8 @@ TABLE_KEYS = {"full_load_torque": ("speed_rpm", "torque_nm"), "pedal_map": ("acc
               "release_time": ("reservoir_pressure_bar", "release_time_s")}
 NON_NUMERIC = {"gear_names"}
 CODES = {"release_mode": {"preset_position": 0.0, "load_adaptive": 1.0,   # truck (hill_start_amt)
-                          "follow_torque": 0.0, "immediate": 1.0}}        # EV (hill_start_ehb)
+                          "follow_torque": 0.0, "immediate": 1.0},        # EV (hill_start_ehb)
+         "driven_axle": {"front": 0.0, "rear": 1.0}}                      # EV chassis
 
 
 def flatten_vehicle(model: Strict) -> dict[str, float | Table | np.ndarray]:
