@@ -32,13 +32,42 @@ def _numba_cache_dir() -> str:
     base = _os.environ.get("XDG_CACHE_HOME") or _os.path.join(_os.path.expanduser("~"), ".cache")
     parent = Path(base) / "vehicle-assist" / "numba"
     target = parent / digest.hexdigest()[:16]
-    if not target.exists() and parent.is_dir():  # a new source version: keep the 4 newest older caches
-        import shutil
+    try:
+        if not target.exists() and parent.is_dir():  # a new source version: keep the 4 newest older caches
+            import shutil
 
-        old = sorted((d for d in parent.iterdir() if d.is_dir()), key=lambda d: d.stat().st_mtime, reverse=True)
-        for stale in old[4:]:
-            shutil.rmtree(stale, ignore_errors=True)
-    return str(target)
+            old = sorted((d for d in parent.iterdir() if d.is_dir()), key=lambda d: d.stat().st_mtime, reverse=True)
+            for stale in old[4:]:
+                shutil.rmtree(stale, ignore_errors=True)
+    except OSError:
+        pass
+    if _writable(target):
+        return str(target)
+    # a read-only home or install (container, shared site-packages): a private temporary cache instead
+    import sys
+    import tempfile
+
+    uid = getattr(_os, "getuid", lambda: "user")()
+    fallback = Path(tempfile.gettempdir()) / f"vehicle-assist-numba-{uid}" / digest.hexdigest()[:16]
+    if _writable(fallback):
+        print(f"warning: compile cache {target} is not writable; using {fallback}", file=sys.stderr)
+        return str(fallback)
+    fallback = Path(tempfile.mkdtemp(prefix="vehicle-assist-numba-"))
+    print(f"warning: compile cache {target} is not writable; using {fallback} (compiled code is not kept)", file=sys.stderr)
+    return str(fallback)
+
+
+def _writable(directory) -> bool:
+    """True if ``directory`` exists or can be created and a file can be created in it."""
+    import tempfile
+
+    try:
+        _os.makedirs(directory, exist_ok=True)
+        with tempfile.TemporaryFile(dir=directory):
+            pass
+        return True
+    except OSError:
+        return False
 
 
 if "NUMBA_CACHE_DIR" not in _os.environ:  # an explicit setting (benchmarks, CI) wins

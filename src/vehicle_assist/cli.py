@@ -23,9 +23,43 @@ err_console = Console(stderr=True)
 SetOpt = typer.Option(None, "--set", "-s", help="override by dotted path, e.g. vehicle.body.mass_kg=30000 (repeatable)")
 
 
+def _plain(text) -> str:
+    """User-derived text for the terminal: control characters shown escaped (never sent raw)."""
+    from vehicle_assist.scenarios.errors import plain
+
+    return plain(text)
+
+
+def _say(text: str, con: Console | None = None) -> None:
+    """Print text that may hold user input: no markup, no highlighting, control characters escaped."""
+    (con or console).print(_plain(text), markup=False, highlight=False, soft_wrap=True)
+
+
 def _fail(message: str, code: int = 2) -> None:
-    err_console.print(f"[bold red]error:[/] {message}", highlight=False, soft_wrap=True)
+    from rich.text import Text
+
+    err_console.print(Text.assemble(("error:", "bold red"), " ", _plain(message)), highlight=False, soft_wrap=True)
     raise typer.Exit(code)
+
+
+def _out_dir(text: str) -> Path:
+    """--out checked before anything runs (not empty, not '/', not a file or under one, writable)."""
+    from vehicle_assist.scenarios.errors import InputError
+    from vehicle_assist.scenarios.guards import check_out_dir
+
+    try:
+        return check_out_dir(text)
+    except InputError as exc:
+        _fail(str(exc))
+
+
+def _write_failed(exc: OSError, out: Path) -> None:
+    where = exc.filename if exc.filename else out
+    _fail(f"cannot write results to {where} ({exc.strerror or exc.__class__.__name__}); files already written are "
+          "complete (atomic writes); free space or give another --out")
+
+
+YesOpt = typer.Option(False, "--yes", "-y", help="run even past the stated memory (2 GiB) and time (10 min) bounds")
 
 
 def _fmt(value: float) -> str:
@@ -85,14 +119,16 @@ def _load(scenario: str, sets: Optional[List[str]]):
 def check(scenario: str = typer.Argument(..., help="shipped scenario name or a .toml file"), set_: Optional[List[str]] = SetOpt) -> None:
     """Validate a scenario file without running it."""
     sc = _load(scenario, set_)
-    console.print(f"ok: {sc.name} ({sc.vehicle.model.name}, layout {sc.layout}), {len(sc.model.checks)} checks, "
-                  f"{len(sc.model.events)} events, {sc.model.run.duration_s:g} s")
+    _say(f"ok: {sc.name} ({sc.vehicle.model.name}, layout {sc.layout}), {len(sc.model.checks)} checks, "
+         f"{len(sc.model.events)} events, {sc.model.run.duration_s:g} s")
     if sc.model.road.curve_radius is not None:
         console.print("note: road.curve_radius is validated but not yet used by the longitudinal plants")
 
 
 def _metrics_table(title: str, metrics: dict) -> RichTable:
-    table = RichTable(title=title)
+    from rich.text import Text
+
+    table = RichTable(title=Text(_plain(title)))
     table.add_column("metric")
     table.add_column("value (SI)", justify="right")
     table.add_column("", justify="right")
@@ -115,16 +151,26 @@ def _checks_table(title: str, checks) -> RichTable:
 def run(
     scenario: str = typer.Argument(..., help="shipped scenario name or a .toml file"),
     set_: Optional[List[str]] = SetOpt,
-    out: Path = typer.Option(Path("out/run"), "--out", "-o", help="output directory"),
+    out_text: str = typer.Option("out/run", "--out", "-o", help="output directory"),
     plot: bool = typer.Option(True, help="write overview.png"),
+    yes: bool = YesOpt,
 ) -> None:
     """Run one scenario: print metrics and checks, write trace.parquet, trace.csv, metrics.json, overview.png."""
+    from rich.text import Text
+
     from vehicle_assist.io.results import write_run_outputs
+    from vehicle_assist.scenarios.errors import InputError
+    from vehicle_assist.scenarios.guards import estimate_run, refuse_past_bounds
     from vehicle_assist.scenarios.runner import simulate
 
+    out = _out_dir(out_text)
     sc = _load(scenario, set_)
+    try:
+        refuse_past_bounds(estimate_run(sc), yes, out)
+    except InputError as exc:
+        _fail(str(exc))
     t0 = time.perf_counter()
-    with console.status(f"simulating {sc.name} ({sc.model.run.duration_s:g} s)..."):
+    with console.status(Text(_plain(f"simulating {sc.name} ({sc.model.run.duration_s:g} s)..."))):
         result = simulate(sc)
     elapsed = time.perf_counter() - t0
     console.print(_metrics_table(f"{sc.name}: metrics ({elapsed:.2f} s wall)", result.metrics))
@@ -134,10 +180,13 @@ def run(
         from vehicle_assist.cli_verify import requirements_table
 
         console.print(requirements_table(result.requirements))
-    with console.status("writing results..."):
-        paths = write_run_outputs(result.trace, result.metrics, out, sc.name, [c.as_dict() for c in result.checks], plot=plot,
+    try:
+        with console.status("writing results..."):
+            paths = write_run_outputs(result.trace, result.metrics, out, sc.name, [c.as_dict() for c in result.checks], plot=plot,
                                       requirements=[r.as_dict() for r in result.requirements])
-    console.print(f"wrote {', '.join(str(p) for p in paths.values())}")
+    except OSError as exc:
+        _write_failed(exc, out)
+    _say(f"wrote {', '.join(str(p) for p in paths.values())}")
     if not result.ok:
         raise typer.Exit(1)
 
@@ -156,14 +205,18 @@ def show(
     if fmt not in ("toml", "json"):
         _fail(f"--format {fmt!r}: use toml or json")
     try:
-        is_vehicle = name in shipped("vehicles") or (
-            Path(name).is_file() and "layout" in _read_toml(Path(name)) or (Path(name).is_file() and "base" in _read_toml(Path(name)) and "run" not in _read_toml(Path(name)))
-        )
-        if not is_vehicle and name not in shipped("scenarios") and not Path(name).exists():
+        is_vehicle = name in shipped("vehicles")
+        if not is_vehicle and name not in shipped("scenarios"):
             from vehicle_assist.scenarios.errors import did_you_mean
+            from vehicle_assist.scenarios.guards import check_path_text
 
-            known = list(shipped("scenarios")) + list(shipped("vehicles"))
-            _fail(f"{name!r}: no shipped vehicle or scenario of that name{did_you_mean(name, known)} and no such file; see 'vehicle-assist list'")
+            check_path_text(name, "file")
+            if not name.endswith(".toml") and "/" not in name:
+                known = list(shipped("scenarios")) + list(shipped("vehicles"))
+                _fail(f"{name!r}: no shipped vehicle or scenario of that name{did_you_mean(name, known)}; a file must be "
+                      "given as a path ending in .toml; see 'vehicle-assist list'")
+            raw = _read_toml(Path(name))  # bounded, regular .toml files only
+            is_vehicle = "layout" in raw or ("base" in raw and "run" not in raw)
         if is_vehicle and not set_:
             doc = resolved_vehicle(load_vehicle(name))
         else:
@@ -179,11 +232,15 @@ def show(
 
 
 @app.command()
-def reproduce(out: Path = typer.Option(Path("out/reproduce"), "--out", "-o", help="output directory")) -> None:
+def reproduce(out_text: str = typer.Option("out/reproduce", "--out", "-o", help="output directory")) -> None:
     """Run every paper reproduction: table of criteria, figures, HTML page and summary.json."""
     from vehicle_assist.procedures.run import run_reproductions
 
-    entries = run_reproductions(out, console)
+    out = _out_dir(out_text)
+    try:
+        entries = run_reproductions(out, console)
+    except OSError as exc:
+        _write_failed(exc, out)
     failed = [e for e in entries if not e["pass"]]
     if failed:
         err_console.print(f"[red]{len(failed)} of {len(entries)} criteria failed[/]")
@@ -195,20 +252,25 @@ def sweep(
     scenario: str = typer.Argument(..., help="shipped scenario name or a .toml file"),
     grid: List[str] = typer.Option(..., "--grid", "-g", help="dotted.path=v1,v2,... (repeatable; the full product is run)"),
     set_: Optional[List[str]] = SetOpt,
-    out: Path = typer.Option(Path("out/sweep"), "--out", "-o", help="output directory (an interrupted sweep resumes here)"),
-    chunk: int = typer.Option(500, help="variants per part file"),
-    workers: int = typer.Option(0, help="threads (0 = all cores)"),
+    out_text: str = typer.Option("out/sweep", "--out", "-o", help="output directory (an interrupted sweep resumes here)"),
+    chunk: int = typer.Option(500, help="variants per part file (1 to 100000)"),
+    workers: int = typer.Option(0, help="threads (0 = all cores, at most 64)"),
+    yes: bool = YesOpt,
 ) -> None:
-    """Run a grid of variants of one scenario on all cores; results to sweep.parquet (resumable)."""
+    """Run a grid of variants of one scenario on all cores; results to sweep.parquet (resumable, locked)."""
     from vehicle_assist.scenarios.errors import InputError
     from vehicle_assist.scenarios.sweep import run_sweep
 
+    out = _out_dir(out_text)
     sc = _load(scenario, set_)
     try:
-        path, n = run_sweep(sc, grid, out, chunk=chunk, workers=workers or None, console=console)
+        path, n = run_sweep(sc, grid, out, chunk=chunk, workers=workers or None, console=console, yes=yes,
+                            say=_say)
     except InputError as exc:
         _fail(str(exc))
-    console.print(f"wrote {path} ({n} variants)")
+    except OSError as exc:
+        _write_failed(exc, out)
+    _say(f"wrote {path} ({n} variants)")
 
 
 @app.command()
@@ -247,8 +309,16 @@ _register_verify(app)
 
 
 def main() -> None:
+    from vehicle_assist.scenarios.errors import InputError
+
     try:
         app()
+    except InputError as exc:  # a last net: bad input is one line, never a traceback
+        err_console.print(f"error: {exc}", markup=False, highlight=False, soft_wrap=True)
+        sys.exit(2)
+    except (RecursionError, MemoryError) as exc:
+        err_console.print(f"error: the input is too large or too deeply nested ({exc.__class__.__name__})", markup=False)
+        sys.exit(2)
     except KeyboardInterrupt:
         err_console.print("interrupted; files already written are complete (atomic writes)")
         sys.exit(130)

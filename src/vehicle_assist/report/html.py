@@ -77,8 +77,13 @@ def write_reproduce_page(
     (``pass`` True/False, or None for "not evaluated"). ``figures``: (caption, image path) pairs; the
     images are linked relative to the page's directory.
     """
+    from vehicle_assist.scenarios.errors import plain
+
     target = Path(path)
-    esc = html.escape
+
+    def esc(text: str) -> str:  # HTML-escaped, control characters shown as visible escapes
+        return html.escape(plain(text))
+
     n_pass = sum(1 for e in entries if e.get("pass") is not None and bool(e.get("pass")))
     n_fail = sum(1 for e in entries if e.get("pass") is not None and not bool(e.get("pass")))
     rows = []

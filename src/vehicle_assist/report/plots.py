@@ -137,12 +137,18 @@ def _draw_events(axes: list, trace: Trace) -> None:
     top = axes[0]
     for event in events:
         label = top.annotate(
-            f"{event.machine}: {event.to_mode}",
+            _plain(f"{event.machine}: {event.to_mode}"), parse_math=False,
             xy=(event.time_s, 1.0), xycoords=("data", "axes fraction"),
             xytext=(2, -2), textcoords="offset points",
             rotation=90, va="top", ha="left", fontsize=6, color="0.3",
         )
         label.set_in_layout(False)
+
+
+def _plain(text: str) -> str:
+    from vehicle_assist.scenarios.errors import plain
+
+    return plain(text)
 
 
 def _render(trace: Trace, panels: list[Panel], path: str | Path, title: str) -> Path:
@@ -157,7 +163,7 @@ def _render(trace: Trace, panels: list[Panel], path: str | Path, title: str) -> 
                         hspace=0.42 * 2.2 / PANEL_HEIGHT_IN)
     FigureCanvasAgg(fig)
     axes = list(np.atleast_1d(fig.subplots(n, 1, sharex=True, squeeze=False)[:, 0]))
-    fig.suptitle(title, fontsize=11)
+    fig.suptitle(_plain(title), fontsize=11, parse_math=False)  # user text: no mathtext ($), no control characters
     if not panels:
         axes[0].text(0.5, 0.5, "no plottable channels in this trace", ha="center", va="center",
                      transform=axes[0].transAxes)

@@ -8,15 +8,31 @@ from typing import Any
 from pydantic import BaseModel, ValidationError
 
 
+_TOML_TYPES = {"str": "string", "bool": "boolean", "float": "fraction", "list": "array", "dict": "table"}
 _TYPE_TAGS = {"float", "int", "str", "bool", "list", "dict", "none"}
 
 
+# C0 controls (ESC, BEL, CR, LF ...), DEL, C1 controls (CSI, OSC as single bytes) and the bidirectional
+# overrides/isolates: shown as visible escapes so user text can never drive a terminal or reorder a line
+_CONTROL = re.compile("[\x00-\x1f\x7f-\x9f\u200e\u200f\u202a-\u202e\u2066-\u2069]")
+_NAMED = {"\n": "\\n", "\r": "\\r", "\t": "\\t"}
+
+
+def plain(text) -> str:
+    """``text`` with every control character shown as a visible escape (``\\x1b``, ``\\n``, ``\\u202e``)."""
+    text = str(text)
+    if not _CONTROL.search(text):
+        return text
+    return _CONTROL.sub(lambda m: _NAMED.get(m.group(), f"\\x{ord(m.group()):02x}" if ord(m.group()) < 0x100
+                                         else f"\\u{ord(m.group()):04x}"), text)
+
+
 class InputError(ValueError):
-    """Bad user input (scenario, vehicle, override). ``str(err)`` is one line meant for the user."""
+    """Bad user input (scenario, vehicle, override). ``str(err)`` is one line meant for the user; control
+    characters from keys or values (line breaks, ESC sequences) are shown escaped."""
 
     def __init__(self, message: str) -> None:
-        # one line even when a key or value from the file holds a line break
-        super().__init__(str(message).replace("\r", "\\r").replace("\n", "\\n"))
+        super().__init__(plain(message))
 
 
 def did_you_mean(word: str, options) -> str:
@@ -87,18 +103,43 @@ def _range_of(model: type[BaseModel], loc: tuple) -> str:
     return f"; allowed: {lo}{name}{hi}"
 
 
+def _clean_loc(model: type[BaseModel], loc: tuple, kind: str) -> tuple:
+    """``loc`` without the type tags pydantic adds inside unions ("float", "function-after[...]"); a part
+    that is a real key (a field of the model there, or the unknown key itself) is kept even if it reads
+    like a tag (``[run] list = 3``, ``float = 1``)."""
+    out: list = []
+    for i, part in enumerate(loc):
+        if isinstance(part, str) and (part in _TYPE_TAGS or "[" in part):
+            last = i == len(loc) - 1
+            holder = _model_at(model, tuple(out)) if out else model
+            is_field = holder is not None and part in holder.model_fields
+            if not (is_field or (last and kind == "extra_forbidden")):
+                continue
+        out.append(part)
+    return tuple(out)
+
+
 def from_validation(err: ValidationError, model: type[BaseModel], where: str, prefix: str = "") -> InputError:
     """One-line message for the first error (and a count of the others)."""
+    try:
+        return _from_validation(err, model, where, prefix)
+    except Exception:  # the formatter must never turn an input error into a traceback
+        first = err.errors()[0] if err.errors() else {"loc": (), "msg": "invalid"}
+        path = ".".join(str(p) for p in ((prefix,) if prefix else ()) + tuple(first.get("loc", ())))
+        return InputError(f"{where}: {path or '(top level)'}: {str(first.get('msg', 'invalid')).lower()}")
+
+
+def _from_validation(err: ValidationError, model: type[BaseModel], where: str, prefix: str = "") -> InputError:
     # an unknown key first: a misspelt key also makes the intended one "missing", and the did-you-mean is the fix
     errors = sorted(err.errors(), key=lambda e: e["type"] != "extra_forbidden")
     first = errors[0]
     # drop the type tags pydantic adds inside unions ("value.float", "function-after[...]")
-    loc = tuple(p for p in first["loc"] if not (isinstance(p, str) and (p in _TYPE_TAGS or "[" in p)))
-    path = ".".join(str(p) for p in ((prefix,) if prefix else ()) + loc)
     kind = first["type"]
+    loc = _clean_loc(model, tuple(first["loc"]), kind)
+    path = ".".join(str(p) for p in ((prefix,) if prefix else ()) + loc) or "(top level)"
     value = first.get("input")
-    if kind == "extra_forbidden":
-        holder = _model_at(model, loc[:-1])
+    if kind == "extra_forbidden" and loc:
+        holder = _model_at(model, loc[:-1]) if loc[:-1] else model
         known = list(holder.model_fields) if holder else []
         msg = f"unknown key {loc[-1]!r}{did_you_mean(loc[-1], known)}; known keys here: {', '.join(known)}"
     elif kind == "missing":
@@ -107,6 +148,11 @@ def from_validation(err: ValidationError, model: type[BaseModel], where: str, pr
         msg = f"= {value!r}: NaN or inf is not allowed; give a finite number{_range_of(model, loc)}"
     elif kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
         msg = f"= {value!r}: {first['msg'].lower()}{_range_of(model, loc)}"
+    elif kind in ("float_type", "int_type", "int_from_float", "float_parsing", "int_parsing"):
+        shown = str(value).lower() if isinstance(value, bool) else repr(value)
+        number = "a whole number" if kind.startswith("int") else "a number"
+        msg = (f"= {shown}: give {number}, not a {_TOML_TYPES.get(type(value).__name__, type(value).__name__)}"
+               f"{' (write it without quotes)' if isinstance(value, str) else ''}{_range_of(model, loc)}")
     elif kind == "literal_error":
         msg = f"= {value!r}: {first['msg'].lower()}"
     elif kind == "value_error":

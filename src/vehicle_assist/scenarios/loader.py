@@ -7,6 +7,7 @@ import functools
 import hashlib
 import json
 import math
+import os
 import tomllib
 from dataclasses import dataclass, field
 from importlib import resources
@@ -19,6 +20,7 @@ from pydantic import BaseModel, ValidationError
 from vehicle_assist.core.tables import Table, TableError
 from vehicle_assist.plant.sensors import FAULTS
 from vehicle_assist.scenarios.errors import InputError, did_you_mean, from_validation
+from vehicle_assist.scenarios.guards import MAX_BASE_CHAIN, MAX_DEPTH, check_path_text, read_bounded, toml_depth
 from vehicle_assist.scenarios.schema import Scenario
 from vehicle_assist.units import DEG_TO_RAD, KPH_TO_MPS, to_si
 from vehicle_assist.vehicles import layouts
@@ -35,43 +37,48 @@ def shipped(kind: str) -> dict[str, Path]:
 
 
 def _read_toml(path: Path) -> dict:
-    """Parsed TOML (a fresh copy; parsing is cached by path and modification time)."""
+    """Parsed TOML of a regular .toml file of bounded size (a fresh copy; parsing is cached by the file's
+    device, inode, modification time and size). Nesting deeper than MAX_DEPTH is refused."""
+    text, identity = read_bounded(Path(path))
+    cached = _parsed.get(identity)
+    if cached is None or cached[0] != text:
+        cached = (text, _parse_toml(text, Path(path)))
+        if len(_parsed) > 256:
+            _parsed.clear()
+        _parsed[identity] = cached
+    return copy.deepcopy(cached[1])
+
+
+_parsed: dict[tuple, tuple[str, dict]] = {}
+
+
+def _parse_toml(text: str, path: Path) -> dict:
     try:
-        stat = Path(path).stat()
-    except OSError:
-        stat = None
-    if stat is not None:
-        return copy.deepcopy(_read_toml_cached(str(Path(path).resolve()), stat.st_mtime_ns, stat.st_size))
-    return _read_toml_uncached(Path(path))
-
-
-@functools.lru_cache(maxsize=256)
-def _read_toml_cached(path: str, mtime_ns: int, size: int) -> dict:
-    return _read_toml_uncached(Path(path))
-
-
-def _read_toml_uncached(path: Path) -> dict:
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(f"{path}: file not found; give an existing file or a shipped name (see 'vehicle-assist list')") from None
-    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path}: cannot read it ({exc.__class__.__name__}); give a readable UTF-8 TOML file") from None
-    try:
-        return tomllib.loads(text)
+        doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{path}: not valid TOML ({exc}); fix the syntax at that place") from None
+    except RecursionError:
+        raise InputError(f"{path}: nested too deeply to parse; tables and arrays may nest at most {MAX_DEPTH} levels") from None
+    if toml_depth(doc) > MAX_DEPTH:
+        raise InputError(f"{path}: nested too deeply; tables and arrays may nest at most {MAX_DEPTH} levels")
+    return doc
 
 
-def _resolve(name_or_path: str | Path, kind: str) -> Path:
+def _resolve(name_or_path: str | Path, kind: str, anchor: Path | None = None) -> Path:
+    """A shipped name, or a path; a relative path is taken relative to ``anchor`` (the directory of the
+    file that names it), else to the working directory."""
     files = shipped(kind)
+    if not isinstance(name_or_path, (str, Path)):
+        raise InputError(f"{name_or_path!r}: give a shipped {kind[:-1]} name or a .toml file path (a string)")
     text = str(name_or_path)
     if text in files:
         return files[text]
+    check_path_text(text, f"{kind[:-1]} file")
     path = Path(text)
-    if path.suffix == ".toml" or path.exists() or "/" in text:
-        return path
-    raise InputError(f"no shipped {kind[:-1]} named {text!r}{did_you_mean(text, files)} and no such file; see 'vehicle-assist list'")
+    if path.suffix == ".toml" or "/" in text:
+        return anchor / path if anchor is not None and not path.is_absolute() else path
+    raise InputError(f"no shipped {kind[:-1]} named {text!r}{did_you_mean(text, files)}; a file must be given as a path "
+                     "ending in .toml; see 'vehicle-assist list'")
 
 
 def deep_merge(base: dict, over: dict) -> dict:
@@ -105,25 +112,33 @@ class Vehicle:
         return cached
 
 
-def _vehicle_raw(name_or_path: str | Path, seen: tuple = ()) -> tuple[dict, dict[str, str], Path]:
-    """The merged raw vehicle dict (base chain applied), its sources and its path; a fresh copy."""
-    path = _resolve(name_or_path, "vehicles")
-    raw, sources, p = _vehicle_raw_cached(str(path), _chain_stamp(path), seen)
+def _vehicle_raw(name_or_path: str | Path, seen: tuple = (), anchor: Path | None = None) -> tuple[dict, dict[str, str], Path]:
+    """The merged raw vehicle dict (base chain applied), its sources and its path; a fresh copy.
+
+    ``seen``: real paths of the files that led here (cycle detection, chain length at most MAX_BASE_CHAIN)."""
+    path = _resolve(name_or_path, "vehicles", anchor)
+    real = os.path.realpath(path)
+    if real in seen:
+        raise InputError(f"{path}: the base chain makes a cycle (this file is its own base, directly or through others)")
+    if len(seen) >= MAX_BASE_CHAIN:
+        raise InputError(f"{path}: the base chain is longer than {MAX_BASE_CHAIN} files; start from a shipped vehicle")
+    raw, sources, p = _vehicle_raw_cached(str(path), _chain_stamp(path), seen + (real,))
     return copy.deepcopy(raw), dict(sources), p
 
 
 def _chain_stamp(path: Path) -> tuple:
-    """Modification times of a vehicle file and its base chain: the cache key of the merged result."""
+    """Identities of a vehicle file and its base chain: the cache key of the merged result."""
     stamp = []
     seen: set[str] = set()
     current: Path | None = path
-    while current is not None and str(current) not in seen:
+    while current is not None and str(current) not in seen and len(stamp) <= MAX_BASE_CHAIN:
         seen.add(str(current))
         try:
-            stamp.append((str(current), current.stat().st_mtime_ns))
+            st = os.stat(current)
+            stamp.append((str(current), st.st_dev, st.st_ino, st.st_mtime_ns, st.st_size))
             base = _read_toml(current).get("base")
-            current = _resolve(base, "vehicles") if isinstance(base, str) else None
-        except (OSError, InputError):
+            current = _resolve(base, "vehicles", current.parent) if isinstance(base, str) else None
+        except (OSError, ValueError, InputError):
             break  # the real load reports the problem
     return tuple(stamp)
 
@@ -132,13 +147,23 @@ def _chain_stamp(path: Path) -> tuple:
 def _vehicle_raw_cached(path_text: str, stamp: tuple, seen: tuple) -> tuple[dict, dict[str, str], Path]:
     path = Path(path_text)
     raw = _read_toml(path)
+    if not isinstance(raw.get("layout"), str) and not isinstance(raw.get("base"), str):
+        # said without listing the file's keys: a base may point at any file, whose keys are not ours to show
+        raise InputError(f"{path}: not a vehicle file (it needs layout = \"...\" or base = \"...\")")
     base = raw.pop("base", None)
     sources: dict[str, str] = {}
     if base is not None:
-        if base in seen:
-            raise InputError(f"{path}: base = {base!r} makes a cycle of vehicle files")
+        if not isinstance(base, str):
+            raise InputError(f"{path}: base = {base!r}: give a shipped vehicle name or a .toml path (a string)")
+        for section, body in raw.items():  # a value changed here must say where the new value comes from
+            if isinstance(body, dict):
+                own = body.get("source") if isinstance(body.get("source"), dict) else {}
+                for key in body:
+                    if key != "source" and key not in own:
+                        raise InputError(f"{path}: {section}.{key} overrides the value of base {base!r} but has no source "
+                                         f"of its own; add it to [{section}.source] (paper, standard, data sheet or 'assumed: why')")
         try:
-            base_raw, sources, _ = _vehicle_raw(base, seen + (base,))
+            base_raw, sources, _ = _vehicle_raw(base, seen, path.parent)
         except InputError as exc:
             raise InputError(f"{path}: base: {exc}") from None
         raw = deep_merge(base_raw, raw)
@@ -149,8 +174,10 @@ def _vehicle_raw_cached(path_text: str, stamp: tuple, seen: tuple) -> tuple[dict
     return raw, sources, path
 
 
-def load_vehicle(name_or_path: str | Path, overrides: dict | None = None, override_where: str = "") -> Vehicle:
-    raw, sources, path = _vehicle_raw(name_or_path)
+def load_vehicle(name_or_path: str | Path, overrides: dict | None = None, override_where: str = "",
+                 anchor: Path | None = None, credits: dict[str, str] | None = None) -> Vehicle:
+    """``credits``: source strings of overridden keys ("section.key" -> where the value was set)."""
+    raw, sources, path = _vehicle_raw(name_or_path, anchor=anchor)
     if overrides:
         for section, body in overrides.items():
             if section not in raw or not isinstance(raw[section], dict):
@@ -158,9 +185,11 @@ def load_vehicle(name_or_path: str | Path, overrides: dict | None = None, overri
                 raise InputError(f"{override_where or path}: vehicle.{section}: unknown subsystem{did_you_mean(section, known)}; known: {', '.join(known)}")
             if not isinstance(body, dict):
                 raise InputError(f"{override_where or path}: vehicle.{section} must be a table of overrides")
+            own = body.get("source") if isinstance(body.get("source"), dict) else {}
             for key in body:
                 if key != "source":
-                    sources[f"{section}.{key}"] = str(body.get("source", {}).get(key, f"override in {override_where or 'caller'}"))
+                    default = (credits or {}).get(f"{section}.{key}", f"override in {override_where or 'caller'}")
+                    sources[f"{section}.{key}"] = str(own.get(key, default))
         raw = deep_merge(raw, overrides)
     layout = raw.get("layout")
     if layout not in LAYOUTS:
@@ -177,7 +206,7 @@ def load_vehicle(name_or_path: str | Path, overrides: dict | None = None, overri
                     raise InputError(f"{path}: {section}.{key} has no source; add it to [{section}.source] (paper, standard, data sheet or 'assumed: why')")
         clean[section] = body
     try:
-        model = model_cls.model_validate(clean)
+        model = model_cls.model_validate(clean, strict=True)  # strict: "14" and true are not numbers
     except ValidationError as exc:
         loc = exc.errors()[0]["loc"]
         over = (overrides or {}).get(loc[0]) if loc else None
@@ -192,9 +221,14 @@ def load_vehicle(name_or_path: str | Path, overrides: dict | None = None, overri
 # --------------------------------------------------------------------------------------------- overrides
 def parse_value(text: str) -> Any:
     try:
-        return tomllib.loads(f"v = {text}")["v"]
+        value = tomllib.loads(f"v = {text}")["v"]
     except tomllib.TOMLDecodeError:
         return text
+    except RecursionError:
+        raise InputError(f"value {text[:40]!r}...: nested too deeply (at most {MAX_DEPTH} levels)") from None
+    if isinstance(value, (dict, list)) and toml_depth(value) > MAX_DEPTH:
+        raise InputError(f"value {text[:40]!r}...: nested too deeply (at most {MAX_DEPTH} levels)")
+    return value
 
 
 def apply_set(raw: dict, assignment: str, where: str) -> dict:
@@ -205,6 +239,8 @@ def apply_set(raw: dict, assignment: str, where: str) -> dict:
     keys = [k.strip() for k in path.strip().split(".") if k.strip()]
     if not keys:
         raise InputError(f"--set {assignment!r}: the path is empty")
+    if len(keys) > MAX_DEPTH:
+        raise InputError(f"--set {path[:60]!r}...: {len(keys)} levels; paths may have at most {MAX_DEPTH}")
     out = copy.deepcopy(raw)
     node = out
     for depth, key in enumerate(keys[:-1]):
@@ -282,7 +318,7 @@ class LoadedScenario:
             data = current.model_dump()
             data[key] = parse_value(text.strip())
             try:
-                new_section = type(current).model_validate(data)
+                new_section = type(current).model_validate(data, strict=True)
             except ValidationError as exc:
                 raise from_validation(exc, type(current), where, f"vehicle.{section}") from None
             except TableError as exc:
@@ -315,18 +351,26 @@ def scenario_from_raw(raw: dict, path: Path | None, sets: tuple[str, ...], alrea
     for assignment in sets[len(already_set):]:
         raw = apply_set(raw, assignment, where)
     try:
-        model = Scenario.model_validate(raw)
+        model = Scenario.model_validate(raw, strict=True)  # strict: "14" and true are not numbers
     except ValidationError as exc:
         raise from_validation(exc, Scenario, where) from None
     except TableError as exc:
         raise InputError(f"{where}: {exc}") from None
     overrides = {k: v for k, v in (model.vehicle.model_extra or {}).items()}
+    # a relative base is taken relative to the scenario file; one given with --set, relative to the working directory
+    base_from_set = any(a.split("=", 1)[0].strip() == "vehicle.base" for a in sets)
+    anchor = path.parent if path is not None and not base_from_set else None
+    credits = {}
+    for a in sets:
+        keys = a.split("=", 1)[0].strip().split(".")
+        if len(keys) == 3 and keys[0] == "vehicle":
+            credits[f"{keys[1]}.{keys[2]}"] = f"override on the command line: --set {a.strip()}"
     try:
-        base_raw, _, _ = _vehicle_raw(model.vehicle.base)
+        base_raw, _, _ = _vehicle_raw(model.vehicle.base, anchor=anchor)
     except InputError as exc:
         raise InputError(f"{where}: vehicle.base: {exc}") from None
     _check_vehicle_override_keys(base_raw, overrides, where)
-    vehicle = load_vehicle(model.vehicle.base, overrides, override_where=where)
+    vehicle = load_vehicle(model.vehicle.base, overrides, override_where=where, anchor=anchor, credits=credits)
     loaded = LoadedScenario(model, vehicle, path, raw, sets)
     loaded.flat = build_scenario_record(loaded, where)
     return loaded
@@ -425,6 +469,9 @@ def build_scenario_record(sc: LoadedScenario, where: str) -> dict:
         raise InputError(f"{where}: events: {len(m.events)} events, at most {EVENT_CAPACITY} are supported")
     ev = {k: np.zeros(EVENT_CAPACITY) for k in ("time_s", "signal", "op", "threshold", "action", "target", "value", "value2")}
     for i, e in enumerate(m.events):
+        if e.at_s is not None and e.at_s > m.run.duration_s:
+            raise InputError(f"{where}: events.{i}.at_s = {e.at_s:g}: after the end of the run (run.duration_s = "
+                             f"{m.run.duration_s:g}); give at_s <= {m.run.duration_s:g} or a longer run")
         ev["time_s"][i] = e.at_s or 0.0
         ev["signal"][i] = -1
         if e.when is not None:
@@ -443,6 +490,8 @@ def build_scenario_record(sc: LoadedScenario, where: str) -> dict:
                     raise InputError(f"{where}: events.{i}.value = {e.value!r}: not a gear{did_you_mean(str(e.value), gear_names)}")
                 ev["value"][i] = gear_names.index(str(e.value))
             else:
+                if isinstance(e.value, str):
+                    raise InputError(f"{where}: events.{i}.value = {e.value!r}: give a number, not a string (write it without quotes)")
                 try:
                     ev["value"][i] = float(e.value)
                 except (TypeError, ValueError):

@@ -145,6 +145,16 @@ class EventSpec(Strict):
 
     @model_validator(mode="after")
     def _shape(self):
+        for key in self.model_extra or {}:  # extras are unit-suffixed fault values only; a typo is not kept
+            allowed = (self.action == "sensor_fault" and key.startswith("bias_")) or (
+                self.action == "actuator_fault" and key == "limit_bar")
+            if not allowed:
+                import difflib
+
+                close = difflib.get_close_matches(key, list(type(self).model_fields) + ["bias_rpm", "limit_bar"], n=1)
+                hint = f" (did you mean {close[0]!r}?)" if close else ""
+                raise ValueError(f"unknown key {key!r}{hint} for action {self.action!r}; known keys: "
+                                 f"{', '.join(type(self).model_fields)}, bias_<unit> (sensor_fault bias), limit_bar (ehb fault)")
         if self.at_s is None and self.when is None:
             raise ValueError("an event needs 'at_s' (a time) or 'when' (a condition), or both")
         if self.action == "set_input" and (self.input is None or self.value is None):
@@ -169,6 +179,8 @@ class Check(Strict):
     def _bound(self):
         if self.min is None and self.max is None:
             raise ValueError("a check needs 'min' or 'max' (or both)")
+        if self.min is not None and self.max is not None and self.min > self.max:
+            raise ValueError(f"min = {self.min:g} is above max = {self.max:g}; no value can pass; swap them")
         return self
 
 

@@ -1,83 +1,217 @@
 """Parameter sweeps: the product of value lists over dotted paths, run as batches on all cores.
 
 Results go to ``OUT/parts/part-NNNNN.parquet`` (one per chunk, written atomically) and are merged into
-``OUT/sweep.parquet``. A sweep that is interrupted resumes: finished parts are kept and skipped; the
-grid is stored in ``OUT/sweep.json`` and a resume with a different grid is refused. Every value of
-every axis is validated before anything is written.
+``OUT/sweep.parquet``. A sweep that is interrupted resumes: finished parts are kept and skipped.
+
+* ``OUT/sweep.json`` records the sweep: scenario name, ``--set``s, grid, chunk, the scenario hash, the
+  parameter hash of the resolved vehicle, the package version and a digest of the package source. A resume
+  whose record differs in any of them is refused (an edited scenario or vehicle file, or another version
+  of the code, would mix stale rows with new ones).
+* Each part carries in its Parquet metadata the digest of the sweep record, its variant range and the
+  parameter hash of every variant it holds; a part that does not match (or cannot be read) is recomputed.
+* ``OUT/.vehicle-assist.lock`` (O_EXCL, ``pid host``) keeps a second sweep out of the directory while one
+  runs; a lock left by a dead process is taken over.
+* Every option and every value of every axis is validated, and the time and memory are estimated, before
+  anything is written; a sweep that fails before its first part leaves nothing behind.
 """
 from __future__ import annotations
 
+import hashlib
 import itertools
 import json
+import math
+import shutil
 from pathlib import Path
 
 import pyarrow as pa
 import pyarrow.parquet as pq
 
 from vehicle_assist.io.results import atomic_path, write_json
-from vehicle_assist.scenarios.errors import InputError
+from vehicle_assist.scenarios.errors import InputError, plain
+from vehicle_assist.scenarios.guards import MAX_DEPTH, OutputLock, estimate_sweep, refuse_past_bounds
 from vehicle_assist.scenarios.loader import LoadedScenario, parse_value
 from vehicle_assist.scenarios.runner import simulate_batch
 
+MAX_CHUNK = 100_000
+MAX_WORKERS = 64
+PART_META_KEY = b"vehicle_assist.sweep_part"
+
 
 def parse_grid(grid: list[str]) -> list[tuple[str, list]]:
-    axes = []
+    axes: list[tuple[str, list]] = []
     for item in grid:
         if "=" not in item:
             raise InputError(f"--grid {item!r}: write it as dotted.path=v1,v2,...")
         path, values = item.split("=", 1)
+        path = path.strip()
+        if not path or path.count(".") >= MAX_DEPTH:
+            raise InputError(f"--grid {item[:60]!r}: give a dotted path of at most {MAX_DEPTH} levels before '='")
         parsed = [parse_value(v.strip()) for v in values.split(",") if v.strip()]
         if not parsed:
             raise InputError(f"--grid {item!r}: no values")
-        axes.append((path.strip(), parsed))
+        if any(path == p for p, _ in axes):
+            raise InputError(f"--grid {path}: the axis is given twice; give each path once with all its values")
+        axes.append((path, parsed))
     return axes
 
 
-def run_sweep(base: LoadedScenario, grid: list[str], out: Path, chunk: int = 500, workers: int | None = None, console=None):
+def _assignment(path: str, value) -> str:
+    return f"{path}={json.dumps(value) if isinstance(value, (str, bool)) else value}"
+
+
+def _package_source_digest() -> str:
+    import vehicle_assist
+
+    root = Path(vehicle_assist.__file__).resolve().parent
+    digest = hashlib.sha256()
+    for p in sorted(root.rglob("*.py")):
+        digest.update(p.relative_to(root).as_posix().encode())
+        digest.update(p.read_bytes())
+    return digest.hexdigest()[:16]
+
+
+def sweep_record(base: LoadedScenario, axes: list[tuple[str, list]], chunk: int) -> dict:
+    import vehicle_assist
+
+    return {"scenario": base.name, "sets": list(base.sets), "grid": [[p, v] for p, v in axes], "chunk": chunk,
+            "scenario_hash": base.scenario_hash(), "parameter_hash": base.parameter_hash(),
+            "package_version": vehicle_assist.__version__, "package_source": _package_source_digest()}
+
+
+def _digest(obj) -> str:
+    return hashlib.sha256(json.dumps(obj, sort_keys=True, default=str).encode()).hexdigest()[:16]
+
+
+def _check_options(chunk: int, workers: int | None) -> None:
+    if isinstance(chunk, bool) or not isinstance(chunk, int) or not 1 <= chunk <= MAX_CHUNK:
+        raise InputError(f"--chunk {chunk}: give the number of variants per part file, 1 to {MAX_CHUNK}")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= MAX_WORKERS):
+        raise InputError(f"--workers {workers}: give 0 (all cores) or a thread count from 1 to {MAX_WORKERS}")
+
+
+def _compare_record(old, spec: dict, out: Path, spec_path: Path) -> None:
+    if not isinstance(old, dict) or not {"scenario", "grid", "chunk"} <= set(old):
+        raise InputError(f"{plain(str(spec_path))}: not a sweep record (corrupt or edited); delete {plain(str(out))} or use another --out")
+    if any(old.get(k) != spec[k] for k in ("scenario", "sets", "grid", "chunk")):
+        raise InputError(f"{plain(str(out))}: holds a different sweep ({plain(str(old.get('scenario')))}, "
+                         f"{plain(str(old.get('grid')))[:200]}); use another --out or delete it")
+    changed = [k for k in ("scenario_hash", "parameter_hash", "package_version", "package_source") if old.get(k) != spec[k]]
+    if changed:
+        what = {"scenario_hash": "the scenario file", "parameter_hash": "the vehicle parameters",
+                "package_version": "the package version", "package_source": "the package source"}
+        raise InputError(f"{plain(str(out))}: its parts were computed with another version of "
+                         f"{', '.join(what[k] for k in changed)} ({', '.join(f'{k} {old.get(k)} != {spec[k]}' for k in changed)}); "
+                         "resuming would mix stale rows; delete it or use another --out")
+
+
+def _part_ok(part: Path, expected: dict) -> str:
+    """'' if ``part`` is a readable part of this sweep with these variants, else the reason it is not."""
+    try:
+        meta = pq.read_schema(part).metadata or {}
+        found = json.loads(meta.get(PART_META_KEY, b"{}"))
+    except Exception as exc:  # pyarrow raises several types for a damaged file
+        return f"unreadable ({exc.__class__.__name__})"
+    if found != expected:
+        return "computed for another sweep or other parameters"
+    return ""
+
+
+def run_sweep(base: LoadedScenario, grid: list[str], out: Path, chunk: int = 500, workers: int | None = None, console=None,
+              yes: bool = True, say=None):
+    """Run the sweep; return (path of sweep.parquet, rows). ``yes=False`` refuses past the stated bounds."""
+    _check_options(chunk, workers)
     axes = parse_grid(grid)
     # validate every value of every axis before anything is written (a typo must not leave files behind)
     for path, values in axes:
         for v in values:
-            base.with_sets(f"{path}={json.dumps(v) if isinstance(v, str) else v}")
-    out = Path(out)
-    parts = out / "parts"
-    spec = {"scenario": base.name, "sets": list(base.sets), "grid": [[p, v] for p, v in axes], "chunk": chunk}
-    spec_path = out / "sweep.json"
-    if spec_path.exists():
-        old = json.loads(spec_path.read_text())
-        if old != spec:
-            raise InputError(f"{out}: holds a different sweep ({old.get('scenario')}, {old.get('grid')}); use another --out or delete it")
-    else:
-        write_json(spec, spec_path)
-    parts.mkdir(parents=True, exist_ok=True)
-    combos = list(itertools.product(*[v for _, v in axes]))
-    n_parts = (len(combos) + chunk - 1) // chunk
-    from rich.progress import Progress
+            variant = base.with_sets(_assignment(path, v))
+            if variant.layout != base.layout:
+                raise InputError(f"--grid {path}={plain(str(v))}: that vehicle has layout {variant.layout} but the sweep's "
+                                 f"scenario uses {base.layout}; a sweep runs one layout (sweep each layout separately)")
+    n_total = math.prod(len(v) for _, v in axes)
+    import os
 
-    with Progress(console=console, transient=True) as progress:
-        task = progress.add_task("sweep", total=len(combos))
+    n_workers = workers or min(os.cpu_count() or 1, max(n_total, 1))
+    estimate = estimate_sweep(base, n_total, n_workers, chunk)
+    refuse_past_bounds(estimate, yes, Path(out))
+    if say is not None:
+        say(f"estimate: {estimate.describe()}")
+    out = Path(out)
+    created = not out.exists()
+    out.mkdir(parents=True, exist_ok=True)
+    parts = out / "parts"
+    spec = sweep_record(base, axes, chunk)
+    spec_digest = _digest(spec)
+    spec_path = out / "sweep.json"
+    computed = 0
+    with OutputLock(out):
+        wrote_spec = False
+        try:
+            if spec_path.exists():
+                try:
+                    old = json.loads(spec_path.read_text(encoding="utf-8"))
+                except (OSError, UnicodeDecodeError, ValueError):
+                    raise InputError(f"{plain(str(spec_path))}: not a sweep record (corrupt); delete {plain(str(out))} "
+                                     "or use another --out") from None
+                _compare_record(old, spec, out, spec_path)
+            else:
+                write_json(spec, spec_path)
+                wrote_spec = True
+            parts.mkdir(parents=True, exist_ok=True)
+            combos = itertools.product(*[v for _, v in axes])
+            n_parts = (n_total + chunk - 1) // chunk
+            from rich.progress import Progress
+
+            with Progress(console=console, transient=True) as progress:
+                task = progress.add_task("sweep", total=n_total)
+                for k in range(n_parts):
+                    part = parts / f"part-{k:05d}.parquet"
+                    lo, hi = k * chunk, min((k + 1) * chunk, n_total)
+                    block = list(itertools.islice(combos, hi - lo))
+                    try:
+                        variants = [base.with_sets(*[_assignment(p, v) for (p, _), v in zip(axes, combo)]) for combo in block]
+                    except InputError as exc:
+                        raise InputError(f"variants {lo}..{hi - 1}: {exc}") from None
+                    expected = {"sweep": spec_digest, "lo": lo, "hi": hi,
+                                "parameters": _digest([v.parameter_hash() for v in variants])}
+                    if part.exists():
+                        reason = _part_ok(part, expected)
+                        if not reason:
+                            progress.advance(task, hi - lo)
+                            continue
+                        if say is not None:
+                            say(f"{part}: {reason}; recomputing it")
+                    res = simulate_batch(variants, workers=workers, progress=lambda n: progress.advance(task, n))
+                    columns: dict[str, list] = {"variant": list(range(lo, hi))}
+                    for j, (path, _) in enumerate(axes):
+                        columns[path] = [combo[j] for combo in block]
+                    names = sorted({m for d in res.metrics for m in d})
+                    for name in names:
+                        columns[name] = [d.get(name, float("nan")) for d in res.metrics]
+                    columns["checks_ok"] = res.checks_ok
+                    table = pa.table(columns).replace_schema_metadata({PART_META_KEY: json.dumps(expected).encode()})
+                    with atomic_path(part) as tmp:
+                        pq.write_table(table, tmp)
+                    computed += 1
+        except BaseException:
+            if computed == 0 and wrote_spec:  # nothing of value written: leave nothing behind
+                spec_path.unlink(missing_ok=True)
+                if parts.is_dir() and not any(parts.iterdir()):
+                    parts.rmdir()
+            raise
+        finally:
+            if created and computed == 0 and not spec_path.exists():
+                shutil.rmtree(out, ignore_errors=True)
+        tables = []
         for k in range(n_parts):
             part = parts / f"part-{k:05d}.parquet"
-            lo, hi = k * chunk, min((k + 1) * chunk, len(combos))
-            if part.exists():
-                progress.advance(task, hi - lo)
-                continue
-            variants = [base.with_sets(*[f"{p}={json.dumps(v) if isinstance(v, str) else v}" for (p, _), v in zip(axes, combos[i])])
-                        for i in range(lo, hi)]
-            res = simulate_batch(variants, workers=workers, progress=lambda n: progress.advance(task, n))
-            columns: dict[str, list] = {"variant": list(range(lo, hi))}
-            for j, (path, _) in enumerate(axes):
-                columns[path] = [combos[i][j] for i in range(lo, hi)]
-            names = sorted({m for d in res.metrics for m in d})
-            for name in names:
-                columns[name] = [d.get(name, float("nan")) for d in res.metrics]
-            columns["checks_ok"] = res.checks_ok
-            table = pa.table(columns)
-            with atomic_path(part) as tmp:
-                pq.write_table(table, tmp)
-    tables = [pq.read_table(parts / f"part-{k:05d}.parquet") for k in range(n_parts)]
-    merged = pa.concat_tables(tables, promote_options="default")
-    final = out / "sweep.parquet"
-    with atomic_path(final) as tmp:
-        pq.write_table(merged, tmp)
+            try:
+                tables.append(pq.read_table(part))
+            except Exception as exc:
+                raise InputError(f"{plain(str(part))}: cannot read it back ({exc.__class__.__name__}); delete it and run the "
+                                 "sweep again to recompute it") from None
+        merged = pa.concat_tables([t.replace_schema_metadata(None) for t in tables], promote_options="default")
+        final = out / "sweep.parquet"
+        with atomic_path(final) as tmp:
+            pq.write_table(merged, tmp)
     return final, merged.num_rows
