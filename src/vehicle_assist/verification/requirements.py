@@ -153,10 +153,32 @@ def _check_formula(formula: str, layout: str) -> tuple[str, ...]:
 _local = threading.local()
 
 
+def _rtamt():
+    """Import rtamt. Its generated ANTLR parsers (0.4.10) do ``from typing.io import TextIO``; ``typing.io``
+    is deprecated and gone in Python 3.13, so provide it when missing, and keep its deprecation warning quiet."""
+    import sys
+    import types
+    import typing
+    import warnings
+
+    if "rtamt" not in sys.modules:
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", DeprecationWarning)
+                import typing.io  # noqa: F401
+        except ImportError:
+            shim = types.ModuleType("typing.io")
+            shim.TextIO, shim.IO, shim.BinaryIO = typing.TextIO, typing.IO, typing.BinaryIO
+            sys.modules["typing.io"] = shim
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        import rtamt
+    return rtamt
+
+
 def _spec(formula: str, names: tuple[str, ...], dt_s: float):
     """A parsed rtamt discrete-time spec (cached per thread: rtamt specs hold evaluation state)."""
-    import rtamt
-
+    rtamt = _rtamt()
     cache = getattr(_local, "specs", None)
     if cache is None:
         cache = _local.specs = {}
