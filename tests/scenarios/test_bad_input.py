@@ -264,3 +264,196 @@ def test_line_break_in_a_key_still_gives_one_line(tmp_path):
 def test_shipped_scenarios_load(name):
     """Control: every shipped scenario loads without error (so the failures above come from the edits)."""
     assert load_scenario(name).name == name
+
+
+# ---------------------------------------------------------------------------------------------- issue 14
+# Hostile or careless input (issue #14). Each case names the class of the issue it covers. References: the
+# issue's list of failures (each reproduced on main before the fix) and the bounds stated in
+# vehicle_assist/scenarios/guards.py (1 MiB files, 32 levels, 16 base files).
+from vehicle_assist.scenarios.guards import MAX_BASE_CHAIN, MAX_DEPTH, MAX_INPUT_BYTES  # noqa: E402
+from vehicle_assist.scenarios.loader import load_vehicle  # noqa: E402
+
+ESC = "\x1b"
+HOSTILE_CASES = [
+    # accepted silently before: strings and booleans as numbers, misspelt event keys, events after the end, min > max
+    pytest.param((("slope_deg = 11", 'slope_deg = "14"'),), "", (),
+                 ("road.slope_deg", "= '14'", "not a string", "without quotes", SLOPE_RANGE), id="strict-string-number"),
+    pytest.param((("slope_deg = 11", "slope_deg = true"),), "", (),
+                 ("road.slope_deg", "= true", "not a boolean", SLOPE_RANGE), id="strict-boolean-number"),
+    pytest.param((), "", ('road.slope_deg="14"',), ("road.slope_deg", "not a string"), id="strict-string-number-set"),
+    pytest.param((), "", ("vehicle.body.mass_kg=true",), ("vehicle.body.mass_kg", "not a boolean", MASS_RANGE),
+                 id="strict-boolean-vehicle-set"),
+    pytest.param((("duration_s = 20", "duration_s = 20\nseed = 1.5"),), "", (),
+                 ("run.seed", "= 1.5", "give a whole number"), id="strict-fraction-for-int"),
+    pytest.param((), '\n[[events]]\nat_s = 3\naction = "set_input"\ninput = "accelerator"\nvalue = "0.5"\n', (),
+                 ("events.0.value", "'0.5'", "not a string"), id="strict-event-value-string"),
+    pytest.param((), '\n[[events]]\nat_s = 3\naction = "set_input"\ninptu = "accelerator"\nvalue = 0.5\n', (),
+                 ("events.0", "unknown key 'inptu'", "did you mean 'input'"), id="event-misspelt-key"),
+    pytest.param((), '\n[[events]]\nat_s = 3\naction = "stop"\nbias_rpm = 5\n', (),
+                 ("events.0", "unknown key 'bias_rpm'", "for action 'stop'"), id="event-extra-on-wrong-action"),
+    pytest.param((), '\n[[events]]\nat_s = 300\naction = "stop"\n', (),
+                 ("events.0.at_s = 300", "after the end of the run", "run.duration_s = 20"), id="event-after-end"),
+    pytest.param((('metric = "rollback_distance_m"', 'metric = "rollback_distance_m"\nmin = 5'),), "", (),
+                 ("checks.0", "min = 5 is above max = 0.01", "swap them"), id="check-min-above-max"),
+    # the error formatter itself crashed (IndexError) or named the wrong key
+    pytest.param((), "", ("run.list=3",), ("run.list", "unknown key 'list'", "known keys here: duration_s"), id="key-named-list"),
+    pytest.param((('name = "', 'float = 1\nname = "'),), "", (),
+                 ("float", "unknown key 'float'"), id="top-level-key-named-float"),
+    pytest.param((('name = "', '"[/]" = 1\nname = "'),), "", (), ("unknown key '[/]'",), id="key-with-markup"),
+    pytest.param((('name = "', f'"a\\u001b[2Jb" = 1\nname = "'),), "", (),
+                 ("unknown key 'a\\x1b[2Jb'",), id="key-with-escape-sequence"),
+    pytest.param((), '\n[sensors.engine_speed]\n"x\\u001b]52;c;aGk=\\u0007" = 1\n', (),
+                 ("sensors.engine_speed", "\\x1b]52", "\\x07"), id="osc52-in-sensor-key"),
+    # recursion and size
+    pytest.param((), "\nsensors = " + "[" * 2000 + "]" * 2000 + "\n", (),
+                 ("nested too deeply", f"at most {MAX_DEPTH} levels"), id="nesting-2000-arrays"),
+    pytest.param((), "\nsensors = " + "{a=" * 200 + "1" + "}" * 200 + "\n", (),
+                 ("nested too deeply",), id="nesting-200-inline-tables"),
+    pytest.param((), "", ("road.slope_deg=" + "[" * 2000 + "]" * 2000,), ("nested too deeply",), id="nesting-in-set-value"),
+    pytest.param((), "", ("vehicle." + ".".join(["a"] * 500) + "=1",), ("levels", f"at most {MAX_DEPTH}"), id="nesting-in-set-path"),
+]
+
+
+@pytest.mark.parametrize(("scenario_edits", "append", "sets", "fragments"), HOSTILE_CASES)
+def test_hostile_scenario_gives_one_line(tmp_path, scenario_edits, append, sets, fragments):
+    """Issue #14: each hostile scenario or --set raises InputError (never RecursionError, IndexError,
+    MarkupError or a silent coercion) with one line naming the field and fix, and no raw control character."""
+    path, _ = write_case(tmp_path, scenario_edits, append=append)
+    message = load_error(path, sets)
+    assert_names(message, *fragments)
+    assert not any(ord(c) < 32 or 0x7f <= ord(c) <= 0x9f for c in message), repr(message)
+    if "run.list" in fragments:
+        assert "did you mean 'run'" not in message
+
+
+def test_strict_numbers_still_accept_integers_for_floats():
+    """Control for the strict parsing: `slope_deg = 11` (an integer for a float field) still loads."""
+    assert load_scenario("truck_11deg_early_release", ["road.slope_deg=12", "vehicle.body.mass_kg=20000"]).model.road.slope_deg == 12
+
+
+# -- sources of overrides
+def _vehicle_child(tmp_path: Path, body: str, base: str = "heavy_amt_truck_empty") -> Path:
+    path = tmp_path / "child.toml"
+    path.write_text(f'name = "child"\nbase = "{base}"\n{body}', encoding="utf-8")
+    return path
+
+
+def test_vehicle_file_override_without_its_own_source_is_refused(tmp_path):
+    """Issue #14: a vehicle file that overrides its base's value must carry its own source (it used to
+    inherit the parent's source, crediting the new number to the old reference)."""
+    child = _vehicle_child(tmp_path, "[body]\nmass_kg = 20000\n")
+    with pytest.raises(InputError) as info:
+        load_vehicle(child)
+    assert_names(str(info.value), str(child), "body.mass_kg", "no source of its own", "[body.source]")
+    ok = _vehicle_child(tmp_path, '[body]\nmass_kg = 20000\n[body.source]\nmass_kg = "assumed: test"\n')
+    v = load_vehicle(ok)
+    assert v.model.body.mass_kg == 20000 and v.sources["body.mass_kg"] == "assumed: test"
+
+
+def test_scenario_and_command_line_overrides_are_credited_to_where_they_were_set(tmp_path):
+    """Issue #14: an override from a scenario file is credited to that file, one from --set to the command line."""
+    path, _ = write_case(tmp_path, append=BODY_OVERRIDE + "mass_kg = 20000\n")
+    assert str(path) in load_scenario(path).vehicle.sources["body.mass_kg"]
+    sc = load_scenario(path, ["vehicle.clutch.max_torque_nm=2500"])
+    assert "--set vehicle.clutch.max_torque_nm=2500" in sc.vehicle.sources["clutch.max_torque_nm"]
+
+
+# -- files: base chains, cycles, relative bases, special files, paths
+def test_base_chain_longer_than_the_bound_is_refused(tmp_path):
+    """Issue #14 (500 base files raised RecursionError): the chain stops at MAX_BASE_CHAIN with one line."""
+    previous = "heavy_amt_truck_empty"
+    for i in range(500):
+        (tmp_path / f"v{i}.toml").write_text(f'name = "v{i}"\nbase = "{previous}"\n', encoding="utf-8")
+        previous = f"v{i}.toml"
+    scenario, _ = write_case(tmp_path, ((BASE_LINE, 'base = "v499.toml"'),))
+    message = load_error(scenario)
+    assert_names(message, f"longer than {MAX_BASE_CHAIN} files")
+    assert len(message) < 20000
+
+
+@pytest.mark.parametrize("loop", ["self", "pair"])
+def test_base_cycle_is_named(tmp_path, loop):
+    """Issue #14: a base chain that comes back to itself (also through another spelling) is a named cycle."""
+    (tmp_path / "a.toml").write_text('name = "a"\nbase = "./b.toml"\n' if loop == "pair" else 'name = "a"\nbase = "a.toml"\n')
+    (tmp_path / "b.toml").write_text(f'name = "b"\nbase = "{tmp_path}/a.toml"\n')
+    scenario, _ = write_case(tmp_path, ((BASE_LINE, 'base = "a.toml"'),))
+    assert_names(load_error(scenario), "cycle")
+
+
+def test_base_is_resolved_relative_to_the_file_that_names_it(tmp_path, monkeypatch):
+    """Issue #14: `base = "my_truck.toml"` next to the scenario loads from any working directory; shipped names still work."""
+    sub = tmp_path / "project"
+    sub.mkdir()
+    (sub / "my_truck.toml").write_text(VEHICLE.read_text(encoding="utf-8"), encoding="utf-8")
+    scenario, _ = write_case(sub, ((BASE_LINE, 'base = "my_truck.toml"'),))
+    monkeypatch.chdir(tmp_path)
+    assert load_scenario(scenario).vehicle.path == sub / "my_truck.toml"
+    assert load_scenario("truck_11deg_early_release").vehicle.model.name == "heavy_amt_truck_empty"
+
+
+@pytest.mark.parametrize("target", ["/etc/shadow", "/etc/no_such_secret", "/proc/self/environ", "/dev/zero"])
+def test_base_outside_toml_files_is_refused_without_revealing_existence(tmp_path, target):
+    """Issue #14: `base` naming a non-TOML path is refused before the file is opened, with the same message
+    whether or not it exists (no existence oracle, nothing read)."""
+    scenario, _ = write_case(tmp_path, ((BASE_LINE, f'base = "{target}"'),))
+    message = load_error(scenario)
+    assert_names(message, "vehicle.base", "not a .toml file")
+    assert "not found" not in message and "Permission" not in message
+
+
+def test_base_pointing_at_another_toml_does_not_list_its_keys(tmp_path):
+    """Issue #14: a base that is some other TOML file (not a vehicle) is refused without echoing its keys."""
+    other = tmp_path / "secrets.toml"
+    other.write_text('api_token_name = "x"\n[database]\npassword_hint = "y"\n', encoding="utf-8")
+    scenario, _ = write_case(tmp_path, ((BASE_LINE, f'base = "{other}"'),))
+    message = load_error(scenario)
+    assert_names(message, "not a vehicle file")
+    assert "api_token_name" not in message and "database" not in message and "password" not in message
+
+
+@pytest.mark.parametrize("kind", ["fifo", "dev-zero-link", "too-big", "dir-with-suffix", "symlink-loop", "not-utf8"])
+def test_special_files_are_refused_without_blocking(tmp_path, kind):
+    """Issue #14: a FIFO or /dev/zero (behind a .toml name), a file over 1 MiB, a directory, a symlink loop
+    and non-UTF-8 bytes are one-line errors; nothing blocks or reads without bound (alarm after 10 s)."""
+    import os
+    import signal
+
+    path = tmp_path / "x.toml"
+    if kind == "fifo":
+        os.mkfifo(path)
+    elif kind == "dev-zero-link":
+        path.symlink_to("/dev/zero")
+    elif kind == "too-big":
+        path.write_text("# " + "x" * MAX_INPUT_BYTES + "\n")
+    elif kind == "dir-with-suffix":
+        path.mkdir()
+    elif kind == "symlink-loop":
+        (tmp_path / "y.toml").symlink_to(path)
+        path.symlink_to(tmp_path / "y.toml")
+    else:
+        path.write_bytes(b'name = "\xff\xfe"\n')
+    expected = {"fifo": "not a regular file", "dev-zero-link": "not a regular file", "too-big": "1 MiB",
+                "dir-with-suffix": "it is a directory", "symlink-loop": "symbolic links", "not-utf8": "UTF-8"}[kind]
+    signal.signal(signal.SIGALRM, lambda *a: pytest.fail("blocked"))
+    signal.alarm(10)
+    try:
+        for case in (path, write_case(tmp_path, ((BASE_LINE, f'base = "{path}"'),))[0]):
+            assert_names(load_error(case), str(path), expected)
+    finally:
+        signal.alarm(0)
+
+
+@pytest.mark.parametrize("text", ["a" * 5000 + ".toml", "dir/" + "b" * 300 + ".toml", "x\x00y.toml", ""])
+def test_bad_path_text_is_one_line(text):
+    """Issue #14: a 5,000-character path, an over-long name, a NUL and an empty path are one line each."""
+    message = load_error(text)
+    assert len(message) < 400
+    assert "\x00" not in message
+
+
+def test_toml_suffix_is_required_for_files(tmp_path):
+    """Issue #14: the scenario argument reads only .toml files (a shipped name or a .toml path)."""
+    path = tmp_path / "scenario.txt"
+    path.write_text(SCENARIO.read_text(encoding="utf-8"), encoding="utf-8")
+    assert_names(load_error(path), "not a .toml file")
+    assert_names(load_error("/proc/self/environ"), "not a .toml file")

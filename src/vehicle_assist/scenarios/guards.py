@@ -155,9 +155,20 @@ def check_out_dir(text: str, option: str = "--out") -> Path:
     if not stat_mod.S_ISDIR(st.st_mode):
         what = "is a file" if probe == path else f"{plain(str(probe))} is a file"
         raise InputError(f"{option} {label}: {what}, not a directory; give a directory")
-    if not os.access(probe, os.W_OK | os.X_OK):
+    if not os.access(probe, os.W_OK | os.X_OK) or not _can_create_in(probe):
         raise InputError(f"{option} {label}: {plain(str(probe))} is not writable; give a directory you can write to")
     return path
+
+
+def _can_create_in(directory: Path) -> bool:
+    """Create and remove an empty directory in ``directory`` (os.access is True for root on a read-only mount)."""
+    import tempfile
+
+    try:
+        os.rmdir(tempfile.mkdtemp(prefix=".vehicle-assist-probe-", dir=directory))
+        return True
+    except OSError:
+        return False
 
 
 def free_bytes(path: Path) -> int | None:

@@ -546,5 +546,11 @@ def build_scenario_record(sc: LoadedScenario, where: str) -> dict:
     if m.requirements:  # STL requirements: syntax and channel names checked here (verification/requirements.py)
         from vehicle_assist.verification.requirements import resolve
 
-        resolve(m.requirements, sc.layout, where)
+        try:
+            resolve(m.requirements, sc.layout, where)
+        except ValidationError as exc:  # a requirement built from user text: still one line
+            first = exc.errors()[0]
+            loc = ".".join(str(p) for p in first.get("loc", ()))
+            raise InputError(f"{where}: requirements: {loc + ' ' if loc else ''}= {first.get('input')!r}: "
+                             f"{str(first.get('msg', 'invalid')).lower()}") from None
     return flat
