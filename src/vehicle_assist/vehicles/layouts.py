@@ -13,6 +13,7 @@ from types import ModuleType
 _MODULES = {
     "truck_amt": "vehicle_assist.vehicles.truck_amt",
     "ev_ehb": "vehicle_assist.vehicles.ev_ehb",
+    "sedan_esp": "vehicle_assist.vehicles.sedan_esp",
 }
 
 

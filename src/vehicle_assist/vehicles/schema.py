@@ -345,3 +345,10 @@ def flatten_section(section_name: str, section: Strict) -> dict[str, float | Tab
             name, si = to_si(key, float(value))
             flat[f"{section_name}_{name}"] = si
     return flat
+
+
+# passenger car with an ESP unit (issue #9): its schema lives in sedan_schema.py
+from vehicle_assist.vehicles import sedan_schema as _sedan_schema  # noqa: E402
+
+LAYOUTS["sedan_esp"] = _sedan_schema.SedanEspVehicle
+CODES.update(_sedan_schema.CODES)

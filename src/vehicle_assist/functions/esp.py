@@ -1,0 +1,200 @@
+"""ESP controller: one ECU hosting ABS and HBA (blowout compensation next) on one hydraulic unit, arbitrating
+per wheel through a table (issue #9). Runs every ``esp.period_s`` on the measurement record only.
+
+Per period:
+1. Reference speed from the wheel speeds: v_ref = max(max_i v_w,i, v_ref - (|a_x,meas| + margin)*dt)
+   (the car cannot slow faster than the accelerometer says; std ABS practice, Bosch Handbook).
+2. Pressure-sensor health: valid flag from the sensor, plus plausibility against the brake-light switch
+   (switch on with p_mc below ``plausibility_pressure`` for ``plausibility_time``, or off with p_mc above it,
+   latches a fault).
+3. ABS per wheel (functions/abs.py), then select-low on the rear axle (both rear wheels follow the more
+   critical one) and the yaw-moment build-up delay (GMA) on split-mu: while ABS cycles on one front wheel
+   only, the other front wheel builds in short pulses (``gma_pulse_s`` every ``gma_cycle_s``) for
+   ``gma_duration_s``, so the yaw moment of the brake-force difference grows slowly enough for the driver.
+4. HBA (functions/brake_assist.py), if enabled, available only while ABS and the pump are healthy.
+5. Arbitration: wheel valve mode = ``ARBITRATION[hba mode][wheel request]`` (data below).
+6. The ECU's wheel-pressure estimate (its model of the unit, nominal data) tells TERMINATING when the
+   wheels are back at the driver's pressure.
+"""
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+from vehicle_assist.core.fsm import log_event
+from vehicle_assist.functions import abs as abs_fn
+from vehicle_assist.functions import brake_assist as hba
+
+# wheel valve modes (the ESP unit's table rows; same order as plant/brakes/esp_unit.py MODES)
+W_N, W_B, W_HI, W_H, W_D, W_BP, W_BPM, W_T = range(8)
+WHEEL_MODES = ("N", "B", "HI", "H", "D", "BP", "BPM", "T")
+# wheel requests: the ABS modes, plus the two phases of the yaw-moment build-up delay
+R_OFF, R_HOLD, R_DUMP, R_BUILD, R_GMA_HOLD, R_GMA_PULSE = range(6)
+REQUESTS = ("OFF", "HOLD", "DUMP", "BUILD", "GMA_HOLD", "GMA_PULSE")
+# ARBITRATION[hba mode][request] -> wheel valve mode (paper P6-P8, spec 2-3):
+#   no HBA: ABS on the driver's pressure (hold with the circuit open, pulsed build from the master);
+#   HBA active: no ABS request -> active build by the pump; ABS hold isolates the circuit; re-build by the pump;
+#   HBA terminating: ramp-out, except that a dump request (lock threatened) always wins.
+ARBITRATION = np.array([
+    # OFF   HOLD  DUMP  BUILD  GMA_H  GMA_P
+    [W_N, W_H, W_D, W_BPM, W_H, W_BPM],  # INACTIVE
+    [W_B, W_HI, W_D, W_BP, W_HI, W_BP],  # ACTIVE
+    [W_T, W_T, W_D, W_T, W_T, W_T],      # TERMINATING
+], dtype=np.int64)
+PRIORITY = np.array([0, 2, 3, 1], dtype=np.int64)  # select-low: DUMP > HOLD > BUILD > OFF
+ABS_ACTIVE_WINDOW_S = 0.3  # "ABS active on a wheel = a hold or dump in the last 0.3 s" (spec 4.3)
+ABS_LOG_CAP = 60  # ABS mode changes logged per wheel (the event buffer is shared; all are in the trace)
+
+# controller state vector (named indices)
+C_V_REF, C_STARTED, C_IMPLAUSIBLE_S, C_SENSOR_LATCH, C_GMA_START, C_GMA_WHEEL, C_T, C_SENSOR_OK, C_ABS_OK, \
+    C_HBA_AVAILABLE = range(10)
+CTL_SIZE = 10
+# per-wheel state (rows fl, fr, rl, rr)
+A_MODE, A_BUILD_S, A_VW_PREV, A_SINCE_HD_S, A_LOGGED, A_SLIP, A_DECEL, A_REQUEST, A_WHEEL_MODE, A_P_EST = range(10)
+WHEEL_STATE_SIZE = 10
+
+
+def initial_state() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(controller vector, per-wheel array, HBA vector)."""
+    wheels = np.zeros((4, WHEEL_STATE_SIZE))
+    wheels[:, A_SINCE_HD_S] = 1e9
+    return np.zeros(CTL_SIZE), wheels, hba.initial_state()
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def _estimate(mode, p_est, p_src, dt, p):
+    """The ECU's model of a wheel pressure (nominal unit data, spec 2 simplified model)."""
+    if mode == W_N:
+        return p_src
+    if mode == W_B or mode == W_BP:
+        rate = p.esp_unit_pump_build_rate_pa_per_s * (1.0 if mode == W_B else p.esp_unit_pulse_duty_frac)
+        return max(min(p_est + rate * dt, max(p.esp_unit_pump_relief_pa, p_est)), p_src)
+    if mode == W_BPM:
+        return p_est + p.esp_unit_pulse_duty_frac * max(p_src - p_est, 0.0) * min(dt / p.esp_unit_line_time_constant_s, 1.0)
+    if mode == W_D:
+        return p.esp_unit_lpa_pressure_pa + (p_est - p.esp_unit_lpa_pressure_pa) * math.exp(-dt / p.esp_unit_dump_time_constant_s)
+    if mode == W_T:
+        if p_est > p_src:
+            return max(p_est - p.esp_unit_exit_rate_pa_per_s * dt, p_src)
+        return p_src
+    return p_est  # holds
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, abs_guards, hba_guards):
+    """One ESP period; writes the wheel valve modes into ``wheels[:, A_WHEEL_MODE]``; returns n_events."""
+    r_w = p.body_wheel_radius_m
+    vw0 = meas.wheel_speed_fl_radps * r_w
+    vw1 = meas.wheel_speed_fr_radps * r_w
+    vw2 = meas.wheel_speed_rl_radps * r_w
+    vw3 = meas.wheel_speed_rr_radps * r_w
+    v_max = max(max(vw0, vw1), max(vw2, vw3))
+    wheels_ok = (meas.wheel_speed_fl_ok > 0.5 and meas.wheel_speed_fr_ok > 0.5 and meas.wheel_speed_rl_ok > 0.5
+                 and meas.wheel_speed_rr_ok > 0.5)
+    if ctl[C_STARTED] < 0.5:
+        ctl[C_V_REF] = v_max
+        ctl[C_STARTED] = 1.0
+        ctl[C_GMA_START] = -1e9
+        ctl[C_GMA_WHEEL] = -1.0
+        for i in range(4):
+            wheels[i, A_VW_PREV] = v_max
+        hst[hba.S_P_PREV] = meas.master_pressure_pa
+    decel = abs(min(meas.longitudinal_accel_mps2, 0.0)) + p.esp_reference_decel_margin_mps2
+    v_ref = max(v_max, ctl[C_V_REF] - decel * dt)
+    ctl[C_V_REF] = v_ref
+    ctl[C_T] = t
+
+    # pressure sensor: valid and plausible against the brake-light switch
+    p_mc = meas.master_pressure_pa
+    bls = meas.brake_light_switch_flag > 0.5
+    implausible = (bls and p_mc < p.esp_plausibility_pressure_pa) or (not bls and p_mc > 2.0 * p.esp_plausibility_pressure_pa)
+    ctl[C_IMPLAUSIBLE_S] = ctl[C_IMPLAUSIBLE_S] + dt if implausible else 0.0
+    if ctl[C_IMPLAUSIBLE_S] >= p.esp_plausibility_time_s or meas.master_pressure_ok < 0.5:
+        ctl[C_SENSOR_LATCH] = 1.0
+    sensor_ok = ctl[C_SENSOR_LATCH] < 0.5
+    abs_ok = meas.esp_valves_ok > 0.5 and wheels_ok
+    pump_ok = meas.return_pump_ok > 0.5
+    ctl[C_SENSOR_OK] = 1.0 if sensor_ok else 0.0
+    ctl[C_ABS_OK] = 1.0 if abs_ok else 0.0
+    ctl[C_HBA_AVAILABLE] = 1.0 if (abs_ok and pump_ok and sensor_ok and p.brake_assist_enabled_flag > 0.5) else 0.0
+
+    # ABS per wheel
+    abs_allowed = abs_ok and bls and v_ref > p.esp_abs_min_speed_mps
+    for i in range(4):
+        vw = vw0 if i == 0 else vw1 if i == 1 else vw2 if i == 2 else vw3
+        slip = (v_ref - vw) / max(v_ref, 1.0)
+        a_w = (wheels[i, A_VW_PREV] - vw) / dt
+        wheels[i, A_VW_PREV] = vw
+        wheels[i, A_SLIP] = slip
+        wheels[i, A_DECEL] = a_w
+        mode = int(wheels[i, A_MODE])
+        new, reason = abs_fn.abs_step(mode, wheels[i, A_BUILD_S], slip, a_w, abs_allowed, p.esp_abs_dump_slip_frac,
+                                      p.esp_abs_hold_slip_frac, p.esp_abs_dump_decel_mps2, p.esp_abs_rebuild_decel_mps2,
+                                      p.esp_abs_idle_time_s,
+                                      abs_fn.TABLE, abs_guards)
+        if new != mode:
+            if wheels[i, A_LOGGED] < ABS_LOG_CAP:
+                n_events = log_event(events, n_events, t, m_abs0 + i, mode, new, reason)
+                wheels[i, A_LOGGED] += 1.0
+            wheels[i, A_BUILD_S] = 0.0
+        elif new == abs_fn.BUILD:
+            wheels[i, A_BUILD_S] += dt
+        wheels[i, A_MODE] = new
+        if new == abs_fn.HOLD or new == abs_fn.DUMP:
+            wheels[i, A_SINCE_HD_S] = 0.0
+        else:
+            wheels[i, A_SINCE_HD_S] += dt
+        wheels[i, A_REQUEST] = new  # ABS modes are requests 0..3
+
+    # select-low on the rear axle: both rear wheels follow the more critical request
+    m2 = int(wheels[2, A_MODE])
+    m3 = int(wheels[3, A_MODE])
+    rear = m2 if PRIORITY[m2] >= PRIORITY[m3] else m3
+    wheels[2, A_REQUEST] = rear
+    wheels[3, A_REQUEST] = rear
+
+    # yaw-moment build-up delay (GMA): ABS active on one front wheel only
+    act0 = wheels[0, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S
+    act1 = wheels[1, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S
+    if act0 != act1 and ctl[C_GMA_WHEEL] < 0.0 and abs_allowed:
+        ctl[C_GMA_START] = t
+        ctl[C_GMA_WHEEL] = 1.0 if act0 else 0.0  # the other (high-mu) front wheel is delayed
+    if not abs_allowed:
+        ctl[C_GMA_WHEEL] = -1.0
+    g = int(ctl[C_GMA_WHEEL])
+    if g >= 0 and t - ctl[C_GMA_START] < p.esp_gma_duration_s and int(wheels[g, A_MODE]) == abs_fn.OFF:
+        elapsed = t - ctl[C_GMA_START]
+        phase = elapsed - p.esp_gma_cycle_s * math.floor(elapsed / p.esp_gma_cycle_s)
+        wheels[g, A_REQUEST] = R_GMA_PULSE if phase < p.esp_gma_pulse_s - 1e-9 else R_GMA_HOLD
+
+    # HBA
+    hba_mode = hba.INACTIVE
+    if p.brake_assist_enabled_flag > 0.5:
+        ramp_done = True
+        for i in range(4):
+            src = p_mc if i < 2 else _prop(p_mc, p)
+            if abs(wheels[i, A_P_EST] - src) >= 1.0e5:
+                ramp_done = False
+        old = int(hst[hba.S_MODE])
+        new, reason = hba.hba_step(hst, p_mc, v_ref, bls, sensor_ok, abs_ok and pump_ok, ramp_done, dt, p, hba_guards)
+        if new != old:
+            n_events = log_event(events, n_events, t, m_hba, old, new, reason)
+        hba_mode = new
+
+    # arbitration and the ECU's pressure estimate
+    for i in range(4):
+        wm = ARBITRATION[hba_mode, int(wheels[i, A_REQUEST])] if abs_ok else W_N
+        wheels[i, A_WHEEL_MODE] = wm
+        src = p_mc if i < 2 else _prop(p_mc, p)
+        wheels[i, A_P_EST] = _estimate(wm, wheels[i, A_P_EST], src, dt, p)
+    return n_events
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def _prop(p_mc, p):
+    knee = p.master_cylinder_proportioning_knee_pa
+    if p_mc <= knee:
+        return p_mc
+    return knee + p.master_cylinder_proportioning_slope_frac * (p_mc - knee)

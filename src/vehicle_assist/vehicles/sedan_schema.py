@@ -1,0 +1,173 @@
+"""Vehicle-file schema of the passenger car with an ESP unit (layout ``sedan_esp``, vehicles/sedan_esp.py).
+
+Registered into :data:`vehicle_assist.vehicles.schema.LAYOUTS` by the last lines of that module. Every
+numeric key needs a source in the file (schema.py); bounds are physical plausibility ranges.
+"""
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field, model_validator
+
+from vehicle_assist.vehicles.schema import Frac, Strict
+
+Surface = Literal["dry", "wet", "snow"]
+
+
+class SedanBody(Strict):
+    """Rigid body and wheels of the two-track model (plant/chassis/two_track.py)."""
+
+    mass_kg: Annotated[float, Field(ge=300, le=5000)]
+    yaw_inertia_kgm2: Annotated[float, Field(ge=100, le=20000)]
+    wheel_radius_m: Annotated[float, Field(ge=0.15, le=0.6)]
+    wheel_inertia_kgm2: Annotated[float, Field(gt=0.1, le=10)]
+    drag_area_m2: Annotated[float, Field(ge=0, le=5)]
+    rolling_resistance_coeff: Annotated[float, Field(ge=0, le=0.1)]
+
+
+class SedanChassis(Strict):
+    """Geometry for the load transfer (plant/chassis/load_transfer.py)."""
+
+    wheelbase_m: Annotated[float, Field(gt=1.5, le=4.5)]
+    cg_to_front_axle_m: Annotated[float, Field(gt=0.3, le=4.0)]
+    cg_height_m: Annotated[float, Field(gt=0.2, le=1.5)]
+    front_track_m: Annotated[float, Field(gt=1.0, le=2.2)]
+    rear_track_m: Annotated[float, Field(gt=1.0, le=2.2)]
+    roll_stiffness_front_frac: Annotated[float, Field(gt=0, lt=1)]
+
+    @model_validator(mode="after")
+    def _inside(self):
+        if not self.cg_to_front_axle_m < self.wheelbase_m:
+            raise ValueError("cg_to_front_axle_m must be below wheelbase_m (the centre of gravity lies between the axles)")
+        return self
+
+
+class SedanTires(Strict):
+    """Tire interface (plant/tires/model.py): model and stiffnesses per tire."""
+
+    model: Literal["burckhardt", "dugoff"]
+    longitudinal_stiffness_n: Annotated[float, Field(gt=1e3, le=1e6)]
+    cornering_stiffness_front_n_per_rad: Annotated[float, Field(gt=1e3, le=1e6)]
+    cornering_stiffness_rear_n_per_rad: Annotated[float, Field(gt=1e3, le=1e6)]
+
+
+class SedanSurface(Strict):
+    """Burckhardt surface set under the left and the right wheels (split-mu: different sets)."""
+
+    left: Surface
+    right: Surface
+
+
+class SedanPedal(Strict):
+    full_scale_force_n: Annotated[float, Field(gt=50, le=3000)]
+    ratio: Annotated[float, Field(gt=1, le=10)]
+    light_switch_force_n: Annotated[float, Field(gt=0, le=100)]
+
+
+class SedanBooster(Strict):
+    gain: Annotated[float, Field(ge=1, le=20)]
+    runout_force_n: Annotated[float, Field(gt=500, le=30000)]
+    time_constant_s: Annotated[float, Field(gt=0, le=0.5)]
+
+
+class SedanMasterCylinder(Strict):
+    bore_diameter_m: Annotated[float, Field(gt=0.01, le=0.05)]
+    proportioning_knee_bar: Annotated[float, Field(ge=0, le=200)]
+    proportioning_slope_frac: Frac
+
+
+class SedanBrakes(Strict):
+    front_piston_diameter_m: Annotated[float, Field(gt=0.01, le=0.15)]
+    rear_piston_diameter_m: Annotated[float, Field(gt=0.01, le=0.15)]
+    front_effective_radius_m: Annotated[float, Field(gt=0.03, le=0.5)]
+    rear_effective_radius_m: Annotated[float, Field(gt=0.03, le=0.5)]
+    pad_friction_coeff: Annotated[float, Field(gt=0.05, le=1)]
+    efficiency_frac: Annotated[float, Field(gt=0.5, le=1)]
+    friction_faces_count: Annotated[float, Field(ge=1, le=2)]
+
+
+class SedanEspUnit(Strict):
+    """ESP hydraulic unit (plant/brakes/esp_unit.py)."""
+
+    pressure_source: Literal["return_pump", "accumulator"]
+    line_time_constant_s: Annotated[float, Field(gt=0, le=0.5)]
+    pump_build_rate_bar_per_s: Annotated[float, Field(gt=0, le=5000)]
+    pump_relief_bar: Annotated[float, Field(gt=0, le=400)]
+    pulse_duty_frac: Annotated[float, Field(gt=0, le=1)]
+    dump_time_constant_s: Annotated[float, Field(gt=0, le=1)]
+    lpa_pressure_bar: Annotated[float, Field(ge=0, le=20)]
+    exit_rate_bar_per_s: Annotated[float, Field(gt=0, le=5000)]
+    accumulator_bar: Annotated[float, Field(gt=0, le=400)]
+    accumulator_time_constant_s: Annotated[float, Field(gt=0, le=1)]
+
+
+class SedanEsp(Strict):
+    """ESP controller: reference speed, ABS rules and the yaw-moment build-up delay (functions/esp.py, abs.py)."""
+
+    period_s: Annotated[float, Field(ge=1e-3, le=0.05)]
+    abs_dump_slip_frac: Annotated[float, Field(gt=0, lt=1)]
+    abs_hold_slip_frac: Annotated[float, Field(gt=0, lt=1)]
+    abs_dump_decel_mps2: Annotated[float, Field(gt=0, le=500)]
+    abs_rebuild_decel_mps2: Annotated[float, Field(gt=0, le=500)]
+    abs_min_speed_kph: Annotated[float, Field(ge=0, le=30)]
+    abs_idle_time_s: Annotated[float, Field(gt=0, le=5)]
+    gma_duration_s: Annotated[float, Field(ge=0, le=5)]
+    gma_cycle_s: Annotated[float, Field(gt=0, le=1)]
+    gma_pulse_s: Annotated[float, Field(gt=0, le=1)]
+    reference_decel_margin_mps2: Annotated[float, Field(ge=0, le=10)]
+    plausibility_time_s: Annotated[float, Field(gt=0, le=5)]
+    plausibility_pressure_bar: Annotated[float, Field(gt=0, le=50)]
+
+    @model_validator(mode="after")
+    def _order(self):
+        if not self.abs_hold_slip_frac < self.abs_dump_slip_frac:
+            raise ValueError("need abs_hold_slip_frac < abs_dump_slip_frac (hold before dump)")
+        if not self.gma_pulse_s <= self.gma_cycle_s:
+            raise ValueError("need gma_pulse_s <= gma_cycle_s")
+        return self
+
+
+class SedanBrakeAssist(Strict):
+    """Hydraulic brake assist of paper 002 (functions/brake_assist.py; brake_assist.md 3)."""
+
+    enabled_flag: Annotated[int, Field(ge=0, le=1)]
+    on_pressure_bar: Annotated[float, Field(gt=0, le=200)]
+    on_rate_bar_per_s: Annotated[float, Field(gt=0, le=50000)]
+    on_speed_kph: Annotated[float, Field(ge=0, le=100)]
+    off_speed_kph: Annotated[float, Field(ge=0, le=100)]
+    off_pressure_bar: Annotated[float, Field(ge=0, le=100)]
+    rate_window_s: Annotated[float, Field(ge=0, le=1)]
+    rise_samples_count: Annotated[float, Field(ge=1, le=10)]
+    drop_ratio_frac: Annotated[float, Field(gt=0, lt=1)]
+    drop_min_bar: Annotated[float, Field(ge=0, le=100)]
+
+    @model_validator(mode="after")
+    def _order(self):
+        if not self.off_speed_kph < self.on_speed_kph:
+            raise ValueError("need off_speed_kph < on_speed_kph (hysteresis)")
+        if not self.off_pressure_bar < self.on_pressure_bar:
+            raise ValueError("need off_pressure_bar < on_pressure_bar (hysteresis)")
+        return self
+
+
+class SedanEspVehicle(Strict):
+    name: str
+    layout: Literal["sedan_esp"]
+    description: str
+    source: str
+    body: SedanBody
+    chassis: SedanChassis
+    tires: SedanTires
+    surface: SedanSurface
+    pedal: SedanPedal
+    booster: SedanBooster
+    master_cylinder: SedanMasterCylinder
+    brakes: SedanBrakes
+    esp_unit: SedanEspUnit
+    esp: SedanEsp
+    brake_assist: SedanBrakeAssist
+
+
+CODES = {"model": {"burckhardt": 0.0, "dugoff": 1.0},
+         "left": {"dry": 0.0, "wet": 1.0, "snow": 2.0}, "right": {"dry": 0.0, "wet": 1.0, "snow": 2.0},
+         "pressure_source": {"return_pump": 0.0, "accumulator": 1.0}}
