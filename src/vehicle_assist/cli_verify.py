@@ -89,7 +89,7 @@ def study(
     requirement: str = typer.Option(..., "--requirement", "-r", help="requirement id"),
     samples: int = typer.Option(256, "--samples", "-n", help="coverage: number of quasi-random points"),
     method: str = typer.Option("sobol", "--method", help="coverage sampling: sobol, lhs or random"),
-    sensitivity: int = typer.Option(0, "--sensitivity", help="Sobol sensitivity: base sample size N (0 = skip; runs N*(2D+2) points)"),
+    sensitivity: int = typer.Option(0, "--sensitivity", help="Sobol sensitivity: base sample size N (0 = skip; runs N*(D+2) points)"),
     seed: int = typer.Option(0, "--seed"),
     set_: Optional[List[str]] = typer.Option(None, "--set", "-s", help="fixed override for every point (repeatable)"),
     out: Path = typer.Option(Path("out/study"), "--out", "-o", help="output directory"),

@@ -4,8 +4,9 @@ The search works on the unit cube of the envelope (``Envelope.unit_to_point``): 
 are scaled to [0, 1]; a discrete dimension of k options is relaxed to [0, 1] and rounded to one of k
 equal cells (the optimiser sees a piecewise-constant coordinate). Optimisers:
 
-* ``cma``: CMA-ES of the ``cma`` package (Hansen), box-bounded to [0, 1]^d, population = batch size,
-  restarted from a new seeded random mean when it converges (budget left);
+* ``cma``: a first space-filling batch (scrambled Sobol), then CMA-ES of the ``cma`` package (Hansen)
+  from its best point, box-bounded to [0, 1]^d, population = batch size, restarted from a new seeded
+  random mean when it converges (budget left);
 * ``random``: uniform random points (the reference the benchmark compares against).
 
 Each batch of candidates runs on all cores (:func:`simulate_batch`, keeping only the channels the
@@ -17,6 +18,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -162,12 +164,22 @@ def run_falsification(envelope: str | Envelope, requirement: str | Requirement, 
         else:
             import cma
 
-            restart = 0
+            # first generation: a space-filling batch (scrambled Sobol); CMA-ES then starts from its best
+            # point with a step of 0.2 of the box; a restart (budget left after convergence) starts from a
+            # new random point with the initial step 0.3
+            from scipy.stats import qmc
+
+            k = min(max(batch, 2), budget)
+            with warnings.catch_warnings():  # a batch that is not a power of 2 loses Sobol's balance: fine here
+                warnings.simplefilter("ignore", UserWarning)
+                U0 = qmc.Sobol(d, scramble=True, seed=int(rng.integers(0, 2**31 - 1))).random(k)
+            f0 = run_batch(U0)
+            report()
+            x0, sigma0 = U0[int(np.argmin(f0))], 0.2
             while not done():
-                x0 = rng.random(d)
                 opts = {"bounds": [0.0, 1.0], "popsize": max(batch, 2), "seed": int(rng.integers(1, 2**31 - 1)),
-                        "verbose": -9, "tolfun": 1e-9, "tolx": 1e-4, "CMA_stds": None}
-                es = cma.CMAEvolutionStrategy(x0, 0.3, opts)
+                        "verbose": -9, "tolfun": 1e-9, "tolx": 1e-4}
+                es = cma.CMAEvolutionStrategy(x0, sigma0, opts)
                 while not es.stop() and not done():
                     X = es.ask()
                     k = min(len(X), budget - len(evals))
@@ -176,7 +188,7 @@ def run_falsification(envelope: str | Envelope, requirement: str | Requirement, 
                     if k < len(X):
                         break
                     es.tell(X, f)
-                restart += 1
+                x0, sigma0 = rng.random(d), 0.3
     finally:
         if bar is not None:
             bar.stop()

@@ -281,7 +281,7 @@ def _pass_fail_map(env, U, rob, req, path: Path, method: str) -> Path:
 # ------------------------------------------------------------------------------------------- sensitivity
 def sensitivity_study(envelope: str | Envelope, requirement: str, n_base: int, seed: int = 0,
                       sets: list[str] | None = None, out: Path = Path("out/study"), console=None) -> dict:
-    """SALib Sobol indices of the robustness (Saltelli sampling, N*(2D+2) points)."""
+    """SALib Sobol indices of the robustness (Saltelli sampling without second order, N*(D+2) points)."""
     from SALib.analyze import sobol as sobol_analyze
     from SALib.sample import sobol as sobol_sample
 
