@@ -95,7 +95,9 @@ def _compare_record(old, spec: dict, out: Path, spec_path: Path) -> None:
     if any(old.get(k) != spec[k] for k in ("scenario", "sets", "grid", "chunk")):
         raise InputError(f"{plain(str(out))}: holds a different sweep ({plain(str(old.get('scenario')))}, "
                          f"{plain(str(old.get('grid')))[:200]}); use another --out or delete it")
-    changed = [k for k in ("scenario_hash", "parameter_hash", "package_version", "package_source") if old.get(k) != spec[k]]
+    # package_source is recorded for provenance but not compared: any edit of the working tree would
+    # refuse every resume during development; the released version is the contract
+    changed = [k for k in ("scenario_hash", "parameter_hash", "package_version") if old.get(k) != spec[k]]
     if changed:
         what = {"scenario_hash": "the scenario file", "parameter_hash": "the vehicle parameters",
                 "package_version": "the package version", "package_source": "the package source"}
@@ -124,6 +126,13 @@ def run_sweep(base: LoadedScenario, grid: list[str], out: Path, chunk: int = 500
     # validate every value of every axis before anything is written (a typo must not leave files behind)
     for path, values in axes:
         for v in values:
+            if path == "vehicle.base" and isinstance(v, str):  # another layout fails on its inputs first: say why
+                from vehicle_assist.scenarios.loader import load_vehicle
+
+                layout = load_vehicle(v).layout
+                if layout != base.layout:
+                    raise InputError(f"--grid {path}={plain(v)}: that vehicle has layout {layout} but the sweep's scenario "
+                                     f"uses {base.layout}; a sweep runs one layout (sweep each layout separately)")
             variant = base.with_sets(_assignment(path, v))
             if variant.layout != base.layout:
                 raise InputError(f"--grid {path}={plain(str(v))}: that vehicle has layout {variant.layout} but the sweep's "
