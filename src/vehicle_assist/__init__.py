@@ -70,7 +70,8 @@ def _writable(directory) -> bool:
         return False
 
 
-if "NUMBA_CACHE_DIR" not in _os.environ:  # an explicit setting (benchmarks, CI) wins
+if "NUMBA_CACHE_DIR" not in _os.environ or not _writable(_os.environ["NUMBA_CACHE_DIR"]):
+    # an explicit, writable setting (benchmarks, CI) wins; an unwritable one would crash numba's cache
     _os.environ["NUMBA_CACHE_DIR"] = _numba_cache_dir()
     import sys as _sys
 
