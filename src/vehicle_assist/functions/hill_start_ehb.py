@@ -99,6 +99,7 @@ PEDAL_STEP = 1e-4  # brake-pedal change per period that counts as moving it (ped
 RELEASE_MODES = {"follow_torque": RELEASE_FOLLOW, "immediate": RELEASE_IMMEDIATE}
 RELEASE_RAMP_S = 0.5  # brake release after breakaway: rate ramp-up time (assumed, 10 x tau_ehb)
 RELEASE_TAIL_S = 0.2  # and ease-out time constant near zero (assumed, 4 x tau_ehb)
+SLIDE_CONFIRM_S = 0.3  # rolling back this long with the forces not transmitted: the tyres slide (assumed)
 MOTOR_AT_LIMIT_FRAC = 0.95  # measured torque >= 95 % of the maximum counts as "at the motor's limit" (assumed)
 
 STATE_DTYPE = np.dtype([
@@ -119,7 +120,9 @@ STATE_DTYPE = np.dtype([
     ("brake_force_command_n", "f8"),       # F_b the assist commands
     ("net_push_n", "f8"),                  # N = F_t - F_b commanded (rate-limited near breakaway)
     ("mass_ratio", "f8"),
-    ("release_rate_n_per_s", "f8"),        # brake release rate after breakaway (ramped, smooth for the jerk)                  # lower bound of the car's mass / m_light, proven by holding at N
+    ("release_rate_n_per_s", "f8"),
+    ("driver_force_prev_n", "f8"),         # the driver's request (as a force) one period ago
+    ("rollback_time_s", "f8"),             # how long the car has been rolling back without a break        # brake release rate after breakaway (ramped, smooth for the jerk)                  # lower bound of the car's mass / m_light, proven by holding at N
     ("refusal_code", "f8"),                # 0 none, k = 1 + index in REFUSAL_GUARDS
     ("warning_flag", "f8"),
 ])
@@ -181,8 +184,13 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     # the EHB delivers what is asked and the forces reach the ground (more pressure does not cure a
     # pressure the EHB cannot build, nor sliding tyres), and never beyond the car's weight
     delivering = pressure_ok and m.brake_pressure_pa >= 0.9 * c.pressure_command_pa
-    if (active or mode == REFUSED) and delivering and rolling_back and not not_transmitted:
+    c.rollback_time_s = c.rollback_time_s + dt if rolling_back else 0.0
+    if (active or mode == REFUSED) and delivering and rolling_back:
         c.rollback_correction_n += p.hill_start_assist_rollback_gain_n_per_s * dt
+    # sliding tyres are told from an under-estimated grade (biased slope sensor, heavier car) by persistence:
+    # the correction above catches the latter within a few periods
+    sliding = not_transmitted and c.rollback_time_s >= SLIDE_CONFIRM_S
+    # (never beyond the weight of the heaviest car the hold covers)
     c.grade_force_n = min(mass * g_acc * math.sin(gamma) + c.rollback_correction_n, mass * g_acc)
     margin = p.hill_start_assist_margin_rolling_frac * mass * g_acc * f_coef * math.cos(gamma)
     k_hold = k_s * max(c.grade_force_n, 0.0) + margin  # K: hold force kept until the motor carries the grade
@@ -200,15 +208,26 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
         # the driver's own brake cannot hold the car in D (sliding tyres): keep it applied
         g[G_ADHESION] = (m.gear_lever_index >= 1.0 and brake_applied and not_transmitted)
     else:
-        g[G_ADHESION] = not_transmitted and applied >= hold_heaviest and f_brake_meas >= hold_heaviest
-    g[G_TRACTION] = not_transmitted and applied >= hold_heaviest and f_brake_meas < hold_heaviest
-    g[G_MOTOR_LIMIT] = rolling_back and not not_transmitted and t_motor >= MOTOR_AT_LIMIT_FRAC * p.motor_max_torque_nm
+        g[G_ADHESION] = sliding and applied >= hold_heaviest and f_brake_meas >= hold_heaviest
+    # the motor at its limit and the car rolls back, or stands with the brake already released: if the motor
+    # gives more than the heaviest car needs (K), its force does not reach the road (traction limit of the driven
+    # axle), else the motor cannot carry the grade
+    at_limit = t_motor >= MOTOR_AT_LIMIT_FRAC * p.motor_max_torque_nm
+    stuck = at_limit and ((rolling_back and not not_transmitted)
+                          or (not moving_forward and (mode == FOLLOW or mode == DEGRADED)
+                              and c.brake_force_command_n <= 1.0))
+    g[G_TRACTION] = (sliding and applied >= hold_heaviest and f_brake_meas < hold_heaviest) or \
+        (stuck and f_motor >= k_s * mass * g_acc * math.sin(gamma) + p.hill_start_assist_margin_rolling_frac
+         * mass * g_acc * f_coef * math.cos(gamma))
+    g[G_MOTOR_LIMIT] = stuck
     g[G_SENSOR_LOST] = not pressure_ok
     g[G_NOT_REACHED] = (pressure_ok and c.mode_time_s > p.hill_start_assist_settle_time_s
                         and m.brake_pressure_pa < 0.9 * c.pressure_command_pa)
     g[G_MAX_HOLD] = c.hold_time_s > p.hill_start_assist_max_hold_time_s
     g[G_NEXT3] = m.accelerator_frac > p.hill_start_assist_accelerator_on_frac
-    caught_up = (not jerk_limit) or c.ceiling_force_n >= f_driver - 1e-6
+    # the ceiling of the last period reached the driver's request of the last period: handing back adds only the
+    # driver's own increment of one period
+    caught_up = (not jerk_limit) or c.ceiling_force_n >= c.driver_force_prev_n - 1e-6
     g[G_CARRIES] = (moving_forward and m.vehicle_speed_mps > p.hill_start_assist_start_speed_mps
                     and c.pressure_command_pa <= 1.0 and caught_up)
 
@@ -255,6 +274,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     if pressing:
         c.slope_checked_flag = 0.0  # a new brake application re-arms next_1
     c.brake_pedal_prev_frac = m.brake_pedal_frac
+    c.driver_force_prev_n = f_driver
 
     # pressure command and torque ceiling
     p_cmd = c.pressure_command_pa

@@ -94,6 +94,27 @@ def pressure_reapply_pa(trace: Trace):
     return _out(np.max(rise, axis=-1), trace)
 
 
+ASSIST_JERK_TAIL_S = 1.0  # the ease-in after the assist hands back still belongs to its start (assumed)
+START_PHASE_MAX_SPEED_MPS = 5.0  # a hill start ends by 18 km/h (assumed; the motor's power corner is at 12 m/s)
+
+
+def assist_jerk_peak_mps3(trace: Trace):
+    """Largest |filtered jerk| (common.md 10) while the assist is engaged (HOLD, FOLLOW, DEGRADED, REFUSED) and
+    up to ASSIST_JERK_TAIL_S after it hands back, below START_PHASE_MAX_SPEED_MPS: the part of the start the
+    assist shapes (0 if never). Later the driver's pedal and the motor's power limit shape the acceleration."""
+    from vehicle_assist.metrics.common import filtered_jerk
+
+    t = np.asarray(trace["time_s"], dtype=np.float64)
+    mode = _ch(trace, "hsa_mode_index")
+    engaged = mode >= H.HOLD
+    idx = np.arange(mode.shape[1])[None, :]
+    last = np.maximum.accumulate(np.where(engaged, idx, -1), axis=-1)
+    window = ((last >= 0) & (t[None, :] - t[np.maximum(last, 0)] <= ASSIST_JERK_TAIL_S)
+              & (_ch(trace, "speed_mps") <= START_PHASE_MAX_SPEED_MPS))
+    jerk = np.abs(np.atleast_2d(filtered_jerk(trace)))
+    return _out(np.max(np.where(window, jerk, 0.0), axis=-1), trace)
+
+
 def assist_refusal_code(trace: Trace):
     """Largest refusal code of the run (0 = the assist never refused)."""
     return _out(np.max(_ch(trace, "assist_refusal_code"), axis=-1), trace)
@@ -108,6 +129,8 @@ def torque_above_driver_nm(trace: Trace):
 for _m in (
     Metric("hold_force_ratio", hold_force_ratio, ("time_s", "hsa_mode_index", "service_brake_capacity_n", "grade_resistance_n"),
            "lowest brake capacity / true grade resistance while the EV assist holds (after settling)"),
+    Metric("assist_jerk_peak_mps3", assist_jerk_peak_mps3, ("time_s", "accel_mps2", "hsa_mode_index", "speed_mps"),
+           "largest filtered jerk while the EV assist is engaged and 1 s after"),
     Metric("torque_above_driver_nm", torque_above_driver_nm, ("motor_torque_request_nm", "driver_torque_request_nm"),
            "largest motor-torque command above the driver's request"),
     Metric("residual_pressure_at_p2_pa", residual_pressure_at_p2_pa, ("drive_force_n", "grade_resistance_n", "brake_pressure_pa"),

@@ -259,7 +259,9 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
         f_w = aero_drag_n(p.body_drag_area_m2, v)
         f_roll_cap = rolling_resistance_capacity_n(m_kg, slope, f_coeff)
         f_b_cap = k_b * pressure / r
-        f_motor = t_m * i0 * efficiency_factor(t_m * v if v != 0.0 else t_m, eta) / r
+        # power-flow direction of the driveline efficiency; below the stick/slip threshold the motor drives (a
+        # switch at creep speeds made the car chatter between held and moving)
+        f_motor = t_m * i0 * efficiency_factor(t_m * v if abs(v) >= V_EPS else t_m, eta) / r
         # axle loads (static split + grade and acceleration transfer) and the tyre adhesion limit
         mu = road_friction_at(s, x)
         cos_s = math.cos(slope)
