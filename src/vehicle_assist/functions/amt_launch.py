@@ -100,9 +100,18 @@ def governed_speed_radps(p, accelerator_frac):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def governor_gain_nm_per_radps(p, set_speed_radps):
+    """The governor's gain K_gov = T_peak/(droop*w_set) (constant gain if the file gives no droop)."""
+    if p.engine_governor_droop_frac > 0.0:
+        return p.engine_governor_peak_torque_nm / (p.engine_governor_droop_frac * max(set_speed_radps, 1.0))
+    return p.engine_governor_gain_nm_per_radps
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def engine_available_torque_nm(p, speed_radps, accelerator_frac):
     """Torque the governed engine delivers at speed w and pedal theta: min(K (w_set - w), T_full(w)), >= 0."""
-    t_gov = p.engine_governor_gain_nm_per_radps * (governed_speed_radps(p, accelerator_frac) - speed_radps)
+    w_set = governed_speed_radps(p, accelerator_frac)
+    t_gov = governor_gain_nm_per_radps(p, w_set) * (w_set - speed_radps)
     return max(min(t_gov, full_load_torque_nm(p, speed_radps)), 0.0)
 
 

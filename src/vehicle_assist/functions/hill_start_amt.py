@@ -76,6 +76,7 @@ from vehicle_assist.functions.amt_launch import (
     engine_best_torque_nm,
     full_load_torque_nm,
     governed_speed_radps,
+    governor_gain_nm_per_radps,
 )
 from vehicle_assist.plant.powertrain.clutch import clutch_capacity_nm, clutch_position_for_capacity
 
@@ -106,6 +107,7 @@ MACHINE = StateMachine(
         Transition("ENGAGE_HELD", "STOOD_DOWN", "grade_beyond_engine_torque"),
         Transition("ENGAGE_RELEASING", "STOOD_DOWN", "engine_speed_lost"),
         Transition("ENGAGE_RELEASING", "STOOD_DOWN", "park_brake_not_released"),
+        Transition("ENGAGE_RELEASING", "STOOD_DOWN", "grade_beyond_adhesion"),
         # the driver takes over
         Transition("HOLD", "STANDBY", "driver_brakes"),
         Transition("APPROACH", "STANDBY", "driver_brakes"),
@@ -182,9 +184,8 @@ STATE_DTYPE = np.dtype([
     ("hand_valve_was_released_flag", "f8"),  # for the 'hand valve moved to park' edge
     ("torque_short_time_s", "f8"),           # time at the release point with too little engine torque
     ("refusal_code", "f8"),                  # 0, or k: REFUSAL_REASONS[k - 1]
-    ("catch_drive_excess_flag", "f8"),       # at the catch, the clutch gave more than the resistance
-    ("catch_from_held_flag", "f8"),          # the catch came from a mode that held the park brake
     ("standing_time_s", "f8"),               # time the truck has stood still without interruption
+    ("spin_time_s", "f8"),                   # park brake released, clutch above the need, truck standing
 ])
 STAND_DOWN_PASSIVE, STAND_DOWN_HOLD, STAND_DOWN_DRIVE_ON, STAND_DOWN_RESIST = range(4)
 
@@ -226,15 +227,17 @@ def _position(p, torque_nm):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def _resist(p, x, m, engine_ok, x_ceiling, dt):
+def _resist(p, c, x, m, engine_ok, park_applied, x_ceiling, dt):
     """Clutch while catching a rollback: engage (its forward torque works against the rollback, up to what the
-    engine carries above the launch speed) while the engine runs above the guard; below it back off (the
-    re-applied spring brake holds the truck)."""
+    engine carries above the launch speed) while the engine runs above the guard; below it back off. Once the
+    truck has stood on the re-applied spring brake (lamp on) for the refusal delay, open: the brake holds."""
     if not engine_ok or m.engine_speed_radps < p.hill_start_assist_guard_speed_radps:
         return x - p.hill_start_assist_back_off_rate_per_s * dt
     if m.vehicle_speed_mps < 0.0:
         return min(max(x + p.hill_start_assist_approach_rate_per_s * dt, p.clutch_kiss_point_frac),
                    max(x_ceiling, x))
+    if park_applied and c.standing_time_s >= p.hill_start_assist_refusal_delay_s:
+        return x - p.hill_start_assist_back_off_rate_per_s * dt
     return x
 
 
@@ -265,9 +268,9 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
         c.input_speed_rate_radps2 += alpha * (raw - c.input_speed_rate_radps2)
         c.input_speed_prev_radps = m.input_shaft_speed_radps
     # grade from the accelerometer while the truck stands (reads g*sin(alpha) at rest)
-    if standing and m.longitudinal_accel_ok > 0.5:
-        c.grade_estimate_rad = math.asin(min(max(m.longitudinal_accel_mps2 / 9.81, -1.0), 1.0))
     c.standing_time_s = c.standing_time_s + dt if standing else 0.0
+    if standing and c.standing_time_s >= p.hill_start_assist_grade_settle_s and m.longitudinal_accel_ok > 0.5:
+        c.grade_estimate_rad = math.asin(min(max(m.longitudinal_accel_mps2 / 9.81, -1.0), 1.0))
     c.hold_torque_estimate_nm = hold_torque_estimate_nm(m.vehicle_mass_kg, c.grade_estimate_rad,
                                                         p.body_rolling_resistance_coeff, p.body_wheel_radius_m, ratio,
                                                         p.gearbox_efficiency_frac)
@@ -305,7 +308,8 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     if check:
         lock_ok = engine_ok and m.engine_speed_radps >= w_launch and min(
             full_load_torque_nm(p, m.engine_speed_radps),
-            p.engine_governor_gain_nm_per_radps * (governed_speed_radps(p, m.accelerator_frac) - w_launch)) \
+            governor_gain_nm_per_radps(p, governed_speed_radps(p, m.accelerator_frac))
+            * (governed_speed_radps(p, m.accelerator_frac) - w_launch)) \
             >= p.hill_start_assist_lockup_torque_margin_frac * t_hold
     backwards = m.vehicle_speed_mps < -p.hill_start_assist_rollback_catch_speed_mps
     # grade force the park brake must hold (downhill, after the rolling-resistance reaction)
@@ -341,13 +345,23 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
                         and not brake_applied)
     g[G_SLIP_SMALL] = (abs(slip_meas) <= p.hill_start_assist_lockup_slip_radps
                        and m.vehicle_speed_mps > p.hill_start_assist_moving_speed_mps and lock_ok)
-    g[G_CLOSED] = c.clutch_command_frac >= 1.0
+    g[G_CLOSED] = c.clutch_command_frac >= 1.0 and (int(c.mode) != STOOD_DOWN
+                                                    or int(c.stand_down_action) == STAND_DOWN_DRIVE_ON)
     g[G_BEYOND_PARK] = grade_force > p.park_brake_max_force_n
     # caught: the truck has stood still, with the lamp on, for the refusal delay (the energised valve had time to
     # exhaust the chambers: the spring brake is fully back on)
-    caught = (park_applied and c.standing_time_s >= p.hill_start_assist_refusal_delay_s
-              and c.mode_time_s >= p.hill_start_assist_refusal_delay_s)
-    g[G_BEYOND_ADHESION] = caught and (c.catch_from_held_flag > 0.5 or c.catch_drive_excess_flag > 0.5)
+    settled = c.mode_time_s >= p.hill_start_assist_refusal_delay_s
+    spinning = not park_applied and standing and engine_ok and m.engine_speed_radps >= w_launch and \
+        cap >= p.hill_start_assist_lockup_torque_margin_frac * t_hold
+    c.spin_time_s = c.spin_time_s + dt if (spinning and int(c.mode) == ENGAGE_RELEASING) else 0.0
+    caught = park_applied and c.standing_time_s >= p.hill_start_assist_refusal_delay_s and settled
+    mode_now = int(c.mode)
+    g[G_BEYOND_ADHESION] = (
+        # CATCH: the spring brake is back on (lamp on) and the clutch resists, yet the truck still slides back
+        (mode_now == CATCH and settled and park_applied and backwards)
+        # ENGAGE_RELEASING: the park brake has let go (lamp out) and the clutch delivers more than the grade needs,
+        # yet the truck stands: the driven wheels spin
+        or (mode_now == ENGAGE_RELEASING and c.spin_time_s >= p.hill_start_assist_refusal_delay_s))
     g[G_CAUGHT] = caught
     # the driver takes over by braking, or by moving the hand valve back to park (an action, not a state)
     g[G_TAKES_OVER] = brake_applied or (c.hand_valve_was_released_flag > 0.5 and m.hand_valve_released_flag < 0.5)
@@ -363,13 +377,6 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
         elif new_mode == STANDBY:
             c.release_commanded_flag = 0.0
             c.refusal_code = 0.0
-        elif new_mode == CATCH:
-            c.catch_from_held_flag = 1.0 if (mode == HOLD or mode == APPROACH or mode == ENGAGE_HELD) else 0.0
-            # the clutch was delivering clearly more than the grade needs, yet the truck went backwards: the
-            # driven tandem could not pass the force to the road
-            c.catch_drive_excess_flag = 1.0 if (c.release_commanded_flag > 0.5 and mode != DONE
-                                                and cap >= p.hill_start_assist_lockup_torque_margin_frac * t_hold
-                                                and engine_ok and m.engine_speed_radps >= w_launch) else 0.0
         elif new_mode == STOOD_DOWN:
             if mode == STANDBY:
                 c.stand_down_action = STAND_DOWN_PASSIVE
@@ -377,7 +384,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
                 c.stand_down_action = STAND_DOWN_DRIVE_ON
             elif guard == G_ENGINE_LOST and mode == ENGAGE_RELEASING:
                 c.stand_down_action = STAND_DOWN_DRIVE_ON
-            elif guard == G_BEYOND_PARK:
+            elif guard == G_BEYOND_PARK or guard == G_BEYOND_ADHESION:
                 c.stand_down_action = STAND_DOWN_RESIST
             else:
                 c.stand_down_action = STAND_DOWN_HOLD
@@ -396,14 +403,16 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     x_ceiling = _position(p, p.hill_start_assist_ceiling_frac * best_now) if check else 1.0
     if new_mode == STOOD_DOWN:
         action = int(c.stand_down_action)
-        held = (action == STAND_DOWN_HOLD or action == STAND_DOWN_RESIST) and c.valve_command_flag > 0.5
+        # keep holding what was held; a refusal (re-)applies the spring brake
+        held = (action == STAND_DOWN_HOLD or action == STAND_DOWN_RESIST) and (
+            c.valve_command_flag > 0.5 or c.refusal_code > 0.0)
         if action == STAND_DOWN_HOLD and catch_on and backwards and held:
             action = STAND_DOWN_RESIST  # the applied park brake does not hold the truck: resist with the clutch
             c.stand_down_action = STAND_DOWN_RESIST
         if action == STAND_DOWN_HOLD:
             x = 0.0
         elif action == STAND_DOWN_RESIST:
-            x = _resist(p, x, m, engine_ok, x_ceiling, dt)
+            x = _resist(p, c, x, m, engine_ok, park_applied, x_ceiling, dt)
         elif action == STAND_DOWN_DRIVE_ON:
             slip_small = abs(slip_meas) <= p.hill_start_assist_lockup_slip_radps
             if engine_ok and slip_small and m.vehicle_speed_mps > p.hill_start_assist_moving_speed_mps:
@@ -453,7 +462,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     elif new_mode == DONE:
         x = 1.0
     elif new_mode == CATCH:
-        x = _resist(p, x, m, engine_ok, x_ceiling, dt)
+        x = _resist(p, c, x, m, engine_ok, park_applied, x_ceiling, dt)
     c.clutch_command_frac = min(max(x, 0.0), 1.0)
     c.valve_command_flag = 1.0 if held else 0.0
     return n_events

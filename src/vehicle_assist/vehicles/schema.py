@@ -60,6 +60,7 @@ class Engine(Strict):
     friction_offset_nm: Annotated[float, Field(ge=0, le=1000)]
     friction_slope_nm_per_rpm: Annotated[float, Field(ge=0, le=10)]
     full_load_torque: TorqueCurve
+    governor_droop_frac: Annotated[float, Field(ge=0, le=0.5)] = 0.0  # > 0: proportional droop replaces the gain
 
     @model_validator(mode="after")
     def _order(self):
@@ -137,6 +138,19 @@ class AmtLaunch(Strict):
     lockup_slip_rpm: Annotated[float, Field(gt=0, le=1000)]
     lockup_rate_per_s: Annotated[float, Field(gt=0, le=20)]
     moving_speed_mps: Annotated[float, Field(ge=0, le=5)]
+    lockup_min_speed_rpm: Annotated[float, Field(ge=0, le=3000)]
+
+
+class TruckAxles(Strict):
+    """Static axle-load split of a truck with a driven rear tandem, and the grade load transfer (common.md 9):
+    F_z,rear = m*g*(cos(alpha)*phi_r(m) + sin(alpha)*h(m)/l); the payload adds at its own split and height."""
+
+    wheelbase_m: Annotated[float, Field(gt=1, le=15)]
+    empty_mass_kg: Annotated[float, Field(ge=100, le=100000)]
+    empty_rear_load_frac: Frac
+    payload_rear_load_frac: Frac
+    empty_cg_height_m: Annotated[float, Field(gt=0, le=5)]
+    payload_cg_height_m: Annotated[float, Field(gt=0, le=5)]
 
 
 class TractionMotor(Strict):
@@ -219,6 +233,18 @@ class HillStartAssist(Strict):
     reservoir_min_bar: Annotated[float, Field(ge=0, le=15)]
     release_time: ReleaseTimeTable
     release_timeout_margin_s: Annotated[float, Field(ge=0, le=30)]
+    lockup_engine_check_flag: Annotated[int, Field(ge=0, le=1)]
+    rollback_catch_flag: Annotated[int, Field(ge=0, le=1)]
+    launch_speed_min_rpm: Annotated[float, Field(ge=0, le=3000)]
+    hold_torque_margin_frac: Annotated[float, Field(ge=1, le=3)]
+    lockup_torque_margin_frac: Annotated[float, Field(ge=0.5, le=3)]
+    ceiling_frac: Annotated[float, Field(gt=0, le=1)]
+    refusal_delay_s: Annotated[float, Field(ge=0, le=30)]
+    sync_slip_rpm: Annotated[float, Field(gt=0, le=500)]
+    sync_time_s: Annotated[float, Field(gt=0, le=5)]
+    sync_torque_min_nm: Annotated[float, Field(ge=0, le=1000)]
+    rollback_catch_speed_mps: Annotated[float, Field(gt=0, le=2)]
+    grade_settle_s: Annotated[float, Field(ge=0, le=5)]
 
     @model_validator(mode="after")
     def _order(self):
@@ -270,6 +296,7 @@ class TruckAmt(Strict):
     description: str
     source: str
     body: Body
+    axles: TruckAxles
     engine: Engine
     clutch: Clutch
     gearbox: Gearbox

@@ -119,7 +119,7 @@ CHANNELS: dict[str, str] = {
     "service_brake_force_n": "service brake force on the vehicle (+x); a reaction at rest",
     "service_brake_capacity_n": "service brake holding capacity at the ground",
     "park_brake_force_n": "park brake force on the vehicle (+x = uphill, the F_g of paper 000); a reaction at rest",
-    "park_brake_capacity_n": "park brake holding capacity at the ground, F_g_cap(p_sp)",
+    "park_brake_capacity_n": "park brake holding capacity at the ground, F_g_cap(p_sp) (the brake's own; the tyres may pass less: adhesion_limit_n)",
     "brake_power_w": "power dissipated by service and park brakes while the vehicle moves",
     "vehicle_held_flag": "1 while held at exactly zero speed by static friction",
     "engine_speed_radps": "engine (flywheel) speed",
@@ -258,6 +258,7 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
     f_pb = 0.0
     f_sb_cap = 0.0
     f_pb_cap = 0.0
+    f_pb_cap_brake = 0.0
     p_brake = 0.0
     t_e = 0.0
     cap = 0.0
@@ -384,6 +385,7 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
                                          p.park_brake_release_full_pressure_pa)
         # the spring brake acts on the rear tandem, the service brake on all axles: both adhesion-limited; the
         # rear tyres pass drive and park-brake force together (drive force of the previous step)
+        f_pb_cap_brake = f_pb_cap  # the brake's own capacity F_g_cap(p_sp), recorded (paper 000 Fig. 5 phases)
         f_pb_cap = min(f_pb_cap, max(f_adh - max(f_t, 0.0), 0.0))
         f_sb_cap = min(f_sb_cap, max(f_adh_all - f_pb_cap, 0.0))
         hold_cap = f_roll_cap + f_sb_cap + f_pb_cap
@@ -488,7 +490,7 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
             row.service_brake_force_n = f_sb
             row.service_brake_capacity_n = f_sb_cap
             row.park_brake_force_n = f_pb
-            row.park_brake_capacity_n = f_pb_cap
+            row.park_brake_capacity_n = f_pb_cap_brake
             row.brake_power_w = p_brake
             row.vehicle_held_flag = 1.0 if held else 0.0
             row.engine_speed_radps = w_e
@@ -562,8 +564,10 @@ def gear_names(model) -> list[str]:
 
 
 def derived(flat: dict) -> dict:
-    """No derived parameters: the truck file gives everything the kernel reads."""
-    return flat
+    """Peak of the full-load curve, the torque at which the governor's speed droop is defined."""
+    out = dict(flat)
+    out["engine_governor_peak_torque_nm"] = float(max(flat["engine_full_load_torque"].y))
+    return out
 
 
 def controller_states() -> tuple:
