@@ -10,7 +10,9 @@ Per period:
 3. ABS per wheel (functions/abs.py), then select-low on the rear axle (both rear wheels follow the more
    critical one) and the yaw-moment build-up delay (GMA) on split-mu: while ABS cycles on one front wheel
    only, the other front wheel builds in short pulses (``gma_pulse_s`` every ``gma_cycle_s``) for
-   ``gma_duration_s``, so the yaw moment of the brake-force difference grows slowly enough for the driver.
+   ``gma_duration_s``, so the yaw moment of the brake-force difference grows slowly enough for the driver;
+   for the rest of the stop the yaw rate limits it (yaw toward the high-mu side above ``yaw_hold_rate``:
+   hold that wheel, above ``yaw_dump_rate``: dump it), as ESP units do on split-mu (Bosch Handbook, std).
 4. HBA (functions/brake_assist.py), if enabled, available only while ABS and the pump are healthy.
 5. Arbitration: wheel valve mode = ``ARBITRATION[hba mode][wheel request]`` (data below).
 6. The ECU's wheel-pressure estimate (its model of the unit, nominal data) tells TERMINATING when the
@@ -164,10 +166,17 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     if not abs_allowed:
         ctl[C_GMA_WHEEL] = -1.0
     g = int(ctl[C_GMA_WHEEL])
-    if g >= 0 and t - ctl[C_GMA_START] < p.esp_gma_duration_s and int(wheels[g, A_MODE]) == abs_fn.OFF:
+    if g >= 0 and (int(wheels[g, A_MODE]) == abs_fn.OFF or int(wheels[g, A_MODE]) == abs_fn.BUILD):
         elapsed = t - ctl[C_GMA_START]
-        phase = elapsed - p.esp_gma_cycle_s * math.floor(elapsed / p.esp_gma_cycle_s)
-        wheels[g, A_REQUEST] = R_GMA_PULSE if phase < p.esp_gma_pulse_s - 1e-9 else R_GMA_HOLD
+        # yaw toward the high-mu side (braking the left wheel yaws the car left, CCW +)
+        toward = meas.yaw_rate_radps * (1.0 if g == 0 else -1.0)
+        if toward > p.esp_yaw_dump_rate_radps:
+            wheels[g, A_REQUEST] = R_DUMP
+        elif toward > p.esp_yaw_hold_rate_radps:
+            wheels[g, A_REQUEST] = R_GMA_HOLD
+        elif elapsed < p.esp_gma_duration_s and int(wheels[g, A_MODE]) == abs_fn.OFF:
+            phase = elapsed - p.esp_gma_cycle_s * math.floor(elapsed / p.esp_gma_cycle_s)
+            wheels[g, A_REQUEST] = R_GMA_PULSE if phase < p.esp_gma_pulse_s - 1e-9 else R_GMA_HOLD
 
     # HBA
     hba_mode = hba.INACTIVE

@@ -5,7 +5,10 @@ P12). Each metric works on one run or on a batch (rows), computed row by row; Na
 
 * ``hba_activated_flag`` / ``hba_activation_count``: the HBA was ACTIVE / how often it entered ACTIVE
   (false activations in the no-activation scenarios, criterion 2).
-* ``hba_activation_time_s``: first ACTIVE sample - t0.
+* ``hba_activation_time_s``: first ACTIVE sample - t0; ``hba_detection_delay_s``: first ACTIVE sample - the
+  first sample with the sensed p_mc >= 30 bar, its rate >= 3500 bar/s and v >= 15 km/h (criterion 1).
+* ``driver_pressure_deficit_pa``: largest p_src - p_w of a wheel whose valves have let the driver's
+  pressure through (modes N, B, T) for at least 0.1 s (5 line time constants), from t0 + 0.1 s on.
 * ``stopping_distance_m`` / ``stopping_time_s``: from t0 to standstill (NaN if the car did not stop).
 * ``mfdd_mps2``: mean fully developed deceleration (v_b^2 - v_e^2)/(2*(s_e - s_b)) between 0.8 v0 and
   0.1 v0, v0 the speed at t0 (UN R13-H Annex 3 definition, std).
@@ -17,7 +20,8 @@ P12). Each metric works on one run or on a batch (rows), computed row by row; Na
 * ``wheel_lock_time_max_s``: longest spell with a wheel slip above 0.5 while v > 15 km/h (criterion 5);
   ``wheel_stopped_moving_flag``: a wheel at omega = 0 while v > 5 km/h (criterion 5).
 * ``hba_exit_flag``: ACTIVE -> TERMINATING happened; ``rampout_settle_margin_s``: criterion 7's bound
-  (p_w0 - p_src)/G_exit + 0.1 s (p_w0 - p_src the largest excess at the exit, G_exit = 200 bar/s of
+  (p_w0 - p_src)/G_exit + 0.1 s (p_w0 the wheel pressure at the exit, p_src the driver's pressure where the
+  ramp ends - the driver may still be releasing at the exit -, G_exit = 200 bar/s of
   brake_assist.md 6) minus the time from the exit until every wheel is within 1 bar of its driver's
   pressure or back in the normal valve mode (>= 0 meets criterion 7);
   ``rampout_undershoot_pa``: max (p_src - p_w) during TERMINATING (criterion 7: <= 2 bar).
@@ -79,6 +83,35 @@ def _activation_time(t, force, mode):
     k0 = _t0_index(force)
     idx = np.flatnonzero(mode == ACTIVE)
     return t[idx[0]] - t[k0] if idx.size and k0 >= 0 else math.nan
+
+
+def _detection_delay(t, mode, pmeas, rate, speed):
+    seen = np.flatnonzero((pmeas >= 30e5) & (rate >= 3500e5) & (speed >= 15.0 / 3.6))
+    on = np.flatnonzero(mode == ACTIVE)
+    if not seen.size or not on.size:
+        return math.nan
+    return t[on[0]] - t[seen[0]]
+
+
+def _deficit(t, force, *rest):
+    k0 = _t0_index(force)
+    if k0 < 0:
+        return math.nan
+    worst = -math.inf
+    dt = t[1] - t[0] if len(t) > 1 else 1.0
+    settle = int(round(0.1 / dt))
+    for i in range(4):
+        pw, ps, wm = rest[3 * i], rest[3 * i + 1], rest[3 * i + 2]
+        through = (wm == 0.0) | (wm == 1.0) | (wm == 7.0)
+        run = np.zeros(len(t), dtype=int)
+        count = 0
+        for k in range(len(t)):
+            count = count + 1 if through[k] else 0
+            run[k] = count
+        mask = (run > settle) & (t >= t[k0] + 0.1)
+        if mask.any():
+            worst = max(worst, float(np.max((ps - pw)[mask])))
+    return worst
 
 
 def _activation_count(t, mode):
@@ -157,7 +190,6 @@ def _settle_margin(t, mode, *rest):
     if not idx.size:
         return math.nan
     k0 = idx[0] + 1
-    excess = max(pairs[2 * i][k0] - pairs[2 * i + 1][k0] for i in range(4))
     ok = np.ones(len(t), dtype=bool)
     normal = np.ones(len(t), dtype=bool)
     for i in range(4):
@@ -166,7 +198,10 @@ def _settle_margin(t, mode, *rest):
     done = np.flatnonzero((ok | normal) & (np.arange(len(t)) >= k0))
     if not done.size:
         return -math.inf
-    return max(excess, 0.0) / G_EXIT_PA_PER_S + 0.1 - (t[done[0]] - t[k0])
+    k1 = done[0]
+    # the driver may still be releasing at the exit: the ramp has to reach the driver's pressure where it ends
+    excess = max(pairs[2 * i][k0] - pairs[2 * i + 1][k1] for i in range(4))
+    return max(excess, 0.0) / G_EXIT_PA_PER_S + 0.1 - (t[k1] - t[k0])
 
 
 def _undershoot(t, mode, *pairs):
@@ -198,6 +233,12 @@ _DEFS = [
     ("hba_activated_flag", lambda t, m: float(np.any(m == ACTIVE)), ("hba_mode_index",), "1 if the HBA was ACTIVE"),
     ("hba_activation_count", _activation_count, ("hba_mode_index",), "entries into ACTIVE"),
     ("hba_activation_time_s", _activation_time, ("pedal_force_n", "hba_mode_index"), "first ACTIVE - t0 (20 N)"),
+    ("hba_detection_delay_s", _detection_delay,
+     ("hba_mode_index", "master_pressure_meas_pa", "master_pressure_rate_pa_per_s", "reference_speed_mps"),
+     "first ACTIVE - first sample meeting the pressure, rate and speed thresholds (criterion 1)"),
+    ("driver_pressure_deficit_pa", _deficit,
+     ("pedal_force_n",) + tuple(n for w in W for n in (f"wheel_pressure_{w}_pa", f"source_pressure_{w}_pa", f"wheel_mode_{w}_index"))
+     , "largest shortfall of a wheel pressure below the driver's where the valves let it through"),
     ("stopping_distance_m", lambda t, f, v, x: _stop(t, f, v, x)[0], ("pedal_force_n", "speed_mps", "position_m"),
      "distance from t0 (20 N) to standstill"),
     ("stopping_time_s", lambda t, f, v, x: _stop(t, f, v, x)[1], ("pedal_force_n", "speed_mps", "position_m"),

@@ -114,6 +114,8 @@ class SedanEsp(Strict):
     gma_duration_s: Annotated[float, Field(ge=0, le=5)]
     gma_cycle_s: Annotated[float, Field(gt=0, le=1)]
     gma_pulse_s: Annotated[float, Field(gt=0, le=1)]
+    yaw_hold_rate_deg_per_s: Annotated[float, Field(gt=0, le=90)]
+    yaw_dump_rate_deg_per_s: Annotated[float, Field(gt=0, le=180)]
     reference_decel_margin_mps2: Annotated[float, Field(ge=0, le=10)]
     plausibility_time_s: Annotated[float, Field(gt=0, le=5)]
     plausibility_pressure_bar: Annotated[float, Field(gt=0, le=50)]

@@ -16,8 +16,9 @@ Wheel pressure (simplified model of spec 2; p_src = p_mc front, p_prop(p_mc) rea
     D  : dp/dt = -(p - p_LPA)/tau_dump
     T  : dp/dt = -min(G_exit, (p - p_src)/tau_line) while p > p_src + 1 bar; then as N
 
-USV check valve: with the inlet open (B, BP) a driver pressure above the wheel's still flows in, so a dead
-pump never leaves the wheel below the driver's pressure (issue #9: "pump failed -> driver pressure still
+USV check valve: with the inlet fully open (B) a driver pressure above the wheel's still flows in, so a
+dead pump never leaves the wheel below the driver's pressure (in BP the pulsed inlet is the bottleneck:
+the spec's duty*G_pump) (issue #9: "pump failed -> driver pressure still
 reaches the wheels"). The *pressure source* is replaceable: ``SOURCE_RETURN_PUMP`` (rate G_pump up to the
 relief p_lim) here, ``SOURCE_ACCUMULATOR`` (orifice-like fill from an accumulator at p_acc,
 rate (p_acc - p)/tau_acc) for the EHB of paper 004.
@@ -78,7 +79,7 @@ def wheel_pressure_step(mode, p, p_src, dt, tau_line_s, source_rate, limit_pa, d
     if mode == B or mode == BP:
         rate = source_rate if mode == B else duty_frac * source_rate
         built = min(p + rate * dt, max(limit_pa, p))
-        if p_src > p:  # USV check valve: the driver's pressure still reaches the wheel
+        if mode == B and p_src > p:  # USV check valve: the driver's pressure still reaches the (open) wheel
             built = max(built, follow)
         return built
     if mode == BPM:
