@@ -193,6 +193,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     # (never beyond the weight of the heaviest car the hold covers)
     c.grade_force_n = min(mass * g_acc * math.sin(gamma) + c.rollback_correction_n, mass * g_acc)
     margin = p.hill_start_assist_margin_rolling_frac * mass * g_acc * f_coef * math.cos(gamma)
+    margin_0 = margin
     k_hold = k_s * max(c.grade_force_n, 0.0) + margin  # K: hold force kept until the motor carries the grade
     c.hold_pressure_pa = k_s * max(c.grade_force_n, 0.0) * r / k_b
 
@@ -203,7 +204,10 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     # the driver takes over once their own request carries what the assist holds (a light touch that would
     # not hold the car does not end the hold: the EHB applies the larger of the two requests anyway)
     driver_request_pa = m.brake_pedal_frac * p.ehb_pedal_full_pressure_pa
-    g[G_DRIVER_BRAKES] = pressing and driver_request_pa >= c.pressure_command_pa
+    handover_pa = c.pressure_command_pa
+    if mode == REFUSED:  # refused: the driver takes over with a pedal that holds the heaviest car (not p_max)
+        handover_pa = min(handover_pa, (k_s * mass * g_acc * math.sin(gamma) + margin_0) * r / k_b)
+    g[G_DRIVER_BRAKES] = pressing and driver_request_pa >= handover_pa
     if mode == IDLE:
         # the driver's own brake cannot hold the car in D (sliding tyres): keep it applied
         g[G_ADHESION] = (m.gear_lever_index >= 1.0 and brake_applied and not_transmitted)
