@@ -74,7 +74,8 @@ def _estimate(mode, p_est, p_src, dt, p):
         rate = p.esp_unit_pump_build_rate_pa_per_s * (1.0 if mode == W_B else p.esp_unit_pulse_duty_frac)
         return max(min(p_est + rate * dt, max(p.esp_unit_pump_relief_pa, p_est)), p_src)
     if mode == W_BPM:
-        return p_est + p.esp_unit_pulse_duty_frac * max(p_src - p_est, 0.0) * min(dt / p.esp_unit_line_time_constant_s, 1.0)
+        return p_est + min(p.esp_unit_pulse_duty_frac * max(p_src - p_est, 0.0) * min(dt / p.esp_unit_line_time_constant_s, 1.0),
+                           p.esp_unit_pulse_duty_frac * p.esp_unit_pump_build_rate_pa_per_s * dt)
     if mode == W_D:
         return p.esp_unit_lpa_pressure_pa + (p_est - p.esp_unit_lpa_pressure_pa) * math.exp(-dt / p.esp_unit_dump_time_constant_s)
     if mode == W_T:

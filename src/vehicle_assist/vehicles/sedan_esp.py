@@ -395,7 +395,7 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, tr, events):
             pw[i] = wheel_pressure_step(wm, pw[i], psrc[i], dt, p.esp_unit_line_time_constant_s, rate,
                                         p.esp_unit_pump_relief_pa, p.esp_unit_pulse_duty_frac,
                                         p.esp_unit_dump_time_constant_s, p.esp_unit_lpa_pressure_pa,
-                                        p.esp_unit_exit_rate_pa_per_s)
+                                        p.esp_unit_exit_rate_pa_per_s, p.esp_unit_pump_build_rate_pa_per_s)
         if held:
             continue
         # wheels (brake torque capacity K_b*p) and body

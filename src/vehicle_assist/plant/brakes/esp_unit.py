@@ -11,7 +11,8 @@ Wheel pressure (simplified model of spec 2; p_src = p_mc front, p_prop(p_mc) rea
     N  : dp/dt = (p_src - p)/tau_line
     B  : dp/dt = build rate of the pressure source (pump) up to p_lim   (+ USV check valve, below)
     BP : dp/dt = duty * build rate (pulsed inlet)
-    BPM: dp/dt = duty * (p_src - p)/tau_line, >= 0 (plain ABS: pulsed re-build from the master cylinder)
+    BPM: dp/dt = min(duty*(p_src - p)/tau_line, duty*G_pump), >= 0 (plain ABS: pulsed re-build from the master
+         cylinder; assumed: the inlet pulses give the same mean gradient as the pump's BP)
     H, HI: dp/dt = 0           (HI: hold with the circuit isolated, during HBA)
     D  : dp/dt = -(p - p_LPA)/tau_dump
     T  : dp/dt = -min(G_exit, (p - p_src)/tau_line) while p > p_src + 1 bar; then as N
@@ -71,7 +72,7 @@ def source_rate_pa_per_s(kind, p_wheel, rate_pa_per_s, limit_pa, accumulator_pa,
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def wheel_pressure_step(mode, p, p_src, dt, tau_line_s, source_rate, limit_pa, duty_frac, tau_dump_s, p_lpa,
-                        exit_rate_pa_per_s):
+                        exit_rate_pa_per_s, pulse_rate_pa_per_s):
     """Wheel-cylinder pressure after one step in ``mode`` (semi-analytic where a lag is involved)."""
     follow = p + (p_src - p) * min(dt / tau_line_s, 1.0)
     if mode == N:
@@ -83,7 +84,7 @@ def wheel_pressure_step(mode, p, p_src, dt, tau_line_s, source_rate, limit_pa, d
             built = max(built, follow)
         return built
     if mode == BPM:
-        return p + duty_frac * max(p_src - p, 0.0) * min(dt / tau_line_s, 1.0)
+        return p + min(duty_frac * max(p_src - p, 0.0) * min(dt / tau_line_s, 1.0), duty_frac * pulse_rate_pa_per_s * dt)
     if mode == HI or mode == H:
         return p
     if mode == D:
