@@ -425,6 +425,28 @@ def test_seeded_defect_light_calibration_rolls_a_heavy_car_back() -> None:
     assert run(S1, *sets).metrics["rollback_speed_mps"] <= 1e-3
 
 
+# driver creeping up 2 deg lifts the accelerator from 0.3 to 0.1 at 32 s (S4-like dip at 0.01 /s): the car stops and
+# rolls back after the assist has handed back
+LIFT_SETS = ("road.slope_deg=2", "vehicle.body.mass_kg=1900", B60, "run.duration_s=45",
+             "driver.accelerator={time_s=[2.0, 32.0, 32.001, 32.67, 122.67], frac=[0.0, 0.3, 0.1, 0.1, 1.0]}")
+
+
+def test_rollback_after_hand_back_is_caught() -> None:
+    """Issue #7 (hesitating driver, never worse than no assist): after FOLLOW -> IDLE the driver lifts the accelerator
+    while creeping up 2 deg; the 1900 kg car stops and rolls back with nobody braking. Statics (computed here): the
+    remaining 0.1 pedal (5.4 N*m -> 134 N) is below 1900*g*(sin 2 deg - 0.015*cos 2 deg) = 371 N, so it must roll
+    without a brake. Asserted: the assist re-holds it (IDLE -> HOLD rollback_in_drive) with no rollback behind
+    the start and a backward speed of a few mm/s (detection at 0.5 mm/s + EHB build-up), against metres without
+    the assist (same driver)."""
+    assert 5.44 * 8 * 0.92 / 0.3 < 1900 * G * (math.sin(math.radians(2)) - 0.015 * math.cos(math.radians(2)))
+    a, b = run(S1, *LIFT_SETS), run(S1, *LIFT_SETS, OFF)
+    assert ("IDLE", "HOLD", "rollback_in_drive") in hsa_rows(a)
+    assert rollback(b) > 1.0
+    assert rollback(a) <= 1e-3 and a.metrics["rollback_speed_mps"] < 5e-3
+    print(f"\nrollback after hand back: {rollback(a) * 1e3:.2f} mm at {a.metrics['rollback_speed_mps'] * 1e3:.1f} mm/s "
+          f"(no assist {rollback(b):.1f} m)")
+
+
 # ------------------------------------------------------------------------------------------ 3. every row fires
 def constructed_cases() -> list[tuple[str, tuple[str, ...], tuple[str, str, str]]]:
     """(scenario, overrides, the row it is made for) for rows that the shipped scenarios do not reach."""
@@ -438,7 +460,7 @@ def constructed_cases() -> list[tuple[str, tuple[str, ...], tuple[str, str, str]
         (S1, (MAX_HOLD_5S,), ("FOLLOW", "DEGRADED", "max_hold_time_reached")),  # FOLLOW from 2.89 s, limit at 6.03 s
         (S1, MAX_HOLD_SETS, ("DEGRADED", "IDLE", "driver_brakes")),
         (S1, (events_arg(sensor_fault("brake_pressure", "lost", 1.5)),), ("DEGRADED", "IDLE", "motor_carries_the_grade")),
-    ] + [(S1, sets, row) for row, sets in REFUSAL_CASES.items()]
+    ] + [(S1, sets, row) for row, sets in REFUSAL_CASES.items()] + [(S1, LIFT_SETS, ("IDLE", "HOLD", "rollback_in_drive"))]
 
 
 def test_every_machine_row_fires() -> None:
@@ -454,7 +476,7 @@ def test_every_machine_row_fires() -> None:
     for name, sets, _ in constructed_cases():
         seen.update(hsa_rows(run(name, *sets)))
     rows = {(t.source, t.target, t.guard) for t in MACHINE.transitions}
-    assert len(rows) == len(MACHINE.transitions) == 23
+    assert len(rows) == len(MACHINE.transitions) == 24
     assert not rows - seen, f"rows never fired: {sorted(rows - seen)}"
     assert not seen - rows, f"events outside the table: {sorted(seen - rows)}"
 

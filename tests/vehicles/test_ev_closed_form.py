@@ -176,3 +176,40 @@ def test_brake_hold_threshold_pressure(slope_deg) -> None:
             assert np.all(r.trace["vehicle_held_flag"] == 1.0)
         else:
             assert v[-1] < -1e-3 and x[-1] < 0.0, f"pedal {pedal:.6f} should not hold on {slope_deg} deg"
+
+
+def test_tyre_limit_on_a_low_mu_slope_sliding_deceleration() -> None:
+    """(e) Tyre adhesion (issue #7, common.md 9): on 20 deg with mu = 0.3 the four locked wheels give at most
+    mu*(F_zf + F_zr) = mu*m*g*cos (the grade transfer moves load between the axles but not their sum), so the car
+    slides back with delta*m*a = -m*g*sin + (mu + f)*m*g*cos although the pedal asks for 100 bar (17.9 kN of brake,
+    far above the grade force 5.0 kN). Closed form from these numbers; Euler is exact for a constant acceleration, so
+    1e-9 relative. Control: mu = 0.5 holds ((0.5 + 0.015)*cos 20 deg = 0.484 > sin 20 deg = 0.342): v == 0."""
+    common = ("road.slope_deg=20", "run.duration_s=2", "vehicle.hill_start_assist.enabled_flag=0", "vehicle.body.drag_area_m2=0",
+              'driver.accelerator={time_s=[0.0], frac=[0.0]}', 'driver.brake_pedal={time_s=[0.0], frac=[1.0]}')
+    sc, r = run("road.friction_mu=0.3", *common)
+    p = params(sc)
+    m, m_eq = p["body_mass_kg"], equivalent_mass(p)
+    a20 = math.radians(20.0)
+    a_closed = m * G_MPS2 * (-math.sin(a20) + (0.3 + p["body_rolling_resistance_coeff"]) * math.cos(a20)) / m_eq
+    assert a_closed < -0.4
+    moving = r.trace["time_s"] > 0.05
+    np.testing.assert_allclose(r.trace["accel_mps2"][moving], a_closed, rtol=1e-9)
+    _, held = run("road.friction_mu=0.5", *common)
+    assert np.all(held.trace["speed_mps"] == 0.0)
+
+
+def test_drive_force_limited_by_the_front_axle_load() -> None:
+    """(f) Front-wheel drive on a level road, mu = 0.3, full accelerator (motor 6133 N >> mu*F_zf ~ 2.5 kN), no drag or
+    rolling resistance: delta*m*a = mu*F_zf with F_zf = m*(g*l_r - a*h)/l (common.md 9, acceleration transfer), so
+    a = mu*g*l_r*m/(m_eq*l + mu*m*h), l = 2.70 m, l_r = 1.57 m, h = 0.55 m (compact_ev chassis). The kernel uses the
+    previous step's acceleration in the load transfer; its fixed point is the closed form: 1e-9 relative after 1 s."""
+    sc, r = run("road.slope_deg=0", "road.friction_mu=0.3", "vehicle.body.drag_area_m2=0",
+                "vehicle.body.rolling_resistance_coeff=0", "run.duration_s=3", "run.initial_speed_kph=1",
+                'driver.accelerator={time_s=[0.0], frac=[1.0]}', 'driver.brake_pedal={time_s=[0.0], frac=[0.0]}')
+    p = params(sc)
+    m, m_eq = p["body_mass_kg"], equivalent_mass(p)
+    l, l_r, h = 2.70, 2.70 - 1.13, 0.55
+    a_closed = 0.3 * G_MPS2 * l_r * m / (m_eq * l + 0.3 * m * h)
+    window = r.trace["time_s"] >= 1.0
+    np.testing.assert_allclose(r.trace["accel_mps2"][window], a_closed, rtol=1e-9)
+    assert r.trace["motor_force_n"][window].min() > 2.0 * r.trace["drive_force_n"][window].max()

@@ -58,6 +58,7 @@ MACHINE = StateMachine(
     transitions=(
         Transition("IDLE", "SLOPE_CHECK", "next_1_brake_released_at_standstill"),
         Transition("IDLE", "REFUSED", "brake_adhesion_limit"),
+        Transition("IDLE", "HOLD", "rollback_in_drive"),
         Transition("SLOPE_CHECK", "HOLD", "next_2_on_uphill_slope"),
         Transition("SLOPE_CHECK", "IDLE", "level_road"),
         Transition("HOLD", "IDLE", "driver_brakes"),
@@ -84,10 +85,11 @@ MACHINE = StateMachine(
 )
 TABLE = MACHINE.table()
 IDLE, SLOPE_CHECK, HOLD, FOLLOW, DEGRADED, REFUSED = range(6)
-(G_NEXT1, G_ADHESION, G_NEXT2, G_LEVEL, G_DRIVER_BRAKES, G_TRACTION, G_MOTOR_LIMIT, G_SENSOR_LOST, G_NOT_REACHED,
- G_MAX_HOLD, G_NEXT3, G_CARRIES) = range(12)
+(G_NEXT1, G_ADHESION, G_ROLLBACK, G_NEXT2, G_LEVEL, G_DRIVER_BRAKES, G_TRACTION, G_MOTOR_LIMIT, G_SENSOR_LOST,
+ G_NOT_REACHED, G_MAX_HOLD, G_NEXT3, G_CARRIES) = range(13)
 assert MACHINE.guards == (
-    "next_1_brake_released_at_standstill", "brake_adhesion_limit", "next_2_on_uphill_slope", "level_road",
+    "next_1_brake_released_at_standstill", "brake_adhesion_limit", "rollback_in_drive", "next_2_on_uphill_slope",
+    "level_road",
     "driver_brakes", "traction_limit", "grade_beyond_motor_torque", "pressure_sensor_lost", "pressure_not_reached",
     "max_hold_time_reached", "next_3_accelerator_pressed", "motor_carries_the_grade",
 )
@@ -100,7 +102,7 @@ RELEASE_MODES = {"follow_torque": RELEASE_FOLLOW, "immediate": RELEASE_IMMEDIATE
 RELEASE_RAMP_S = 0.5  # brake release after breakaway: rate ramp-up time (assumed, 10 x tau_ehb)
 RELEASE_TAIL_S = 0.2  # and ease-out time constant near zero (assumed, 4 x tau_ehb)
 SLIDE_CONFIRM_S = 0.3  # rolling back this long with the forces not transmitted: the tyres slide (assumed)
-MOTOR_AT_LIMIT_FRAC = 0.95  # measured torque >= 95 % of the maximum counts as "at the motor's limit" (assumed)
+MOTOR_AT_LIMIT_FRAC = 0.99  # measured torque >= 99 % of the maximum counts as "at the motor's limit" (assumed)
 
 STATE_DTYPE = np.dtype([
     ("mode", "f8"),
@@ -197,8 +199,13 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     k_hold = k_s * max(c.grade_force_n, 0.0) + margin  # K: hold force kept until the motor carries the grade
     c.hold_pressure_pa = k_s * max(c.grade_force_n, 0.0) * r / k_b
 
-    g = np.zeros(12, dtype=np.bool_)
+    g = np.zeros(13, dtype=np.bool_)
     g[G_NEXT1] = being_released and standing and m.gear_lever_index >= 1.0 and c.slope_checked_flag < 0.5
+    # after handing back: the car stops on the slope and rolls back in D with the driver off the brake (e.g. a
+    # driver who lifts the accelerator while creeping uphill): hold it again (the last grade reading at rest)
+    g[G_ROLLBACK] = (m.gear_lever_index >= 1.0 and rolling_back and not brake_applied
+                     and gamma >= p.hill_start_assist_slope_min_rad and c.slope_checked_flag > 0.5
+                     and int(p.hill_start_assist_release_mode) != RELEASE_IMMEDIATE)
     g[G_NEXT2] = gamma >= p.hill_start_assist_slope_min_rad
     g[G_LEVEL] = gamma < p.hill_start_assist_slope_min_rad
     # the driver takes over once their own request carries what the assist holds (a light touch that would
@@ -216,7 +223,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     # the motor at its limit and the car rolls back, or stands with the brake already released: if the motor
     # gives more than the heaviest car needs (K), its force does not reach the road (traction limit of the driven
     # axle), else the motor cannot carry the grade
-    at_limit = t_motor >= MOTOR_AT_LIMIT_FRAC * p.motor_max_torque_nm
+    at_limit = t_motor >= MOTOR_AT_LIMIT_FRAC * p.motor_max_torque_nm and c.ceiling_force_n >= f_motor_max * 0.999
     stuck = at_limit and ((rolling_back and not not_transmitted)
                           or (not moving_forward and (mode == FOLLOW or mode == DEGRADED)
                               and c.brake_force_command_n <= 1.0))
@@ -242,6 +249,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
         c.mode_time_s = 0.0
         if new_mode == HOLD:
             c.pressure_command_pa = max(m.brake_pressure_pa, 0.0) if pressure_ok else c.hold_pressure_pa
+            c.slope_checked_flag = 1.0
             c.brake_force_command_n = k_b * c.pressure_command_pa / r
             c.ceiling_force_n = 0.0
             c.hold_time_s = 0.0
@@ -262,8 +270,8 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
             # keep at least what is applied now (the driver's or the assist's pressure)
             c.pressure_command_pa = max(c.pressure_command_pa, max(m.brake_pressure_pa, 0.0) if pressure_ok else 0.0)
         elif new_mode == IDLE:
-            if mode == SLOPE_CHECK:
-                c.slope_checked_flag = 1.0
+            if mode == SLOPE_CHECK or mode == FOLLOW or mode == DEGRADED:
+                c.slope_checked_flag = 1.0  # (the rollback catch stays armed after a start)
             c.pressure_command_pa = 0.0
             c.rollback_correction_n = 0.0
             c.warning_flag = 0.0
@@ -291,6 +299,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     elif new_mode == FOLLOW or new_mode == DEGRADED:
         f_cap_prev = c.ceiling_force_n
         f_b_prev = c.brake_force_command_n
+        probing = False
         if int(p.hill_start_assist_release_mode) == RELEASE_IMMEDIATE:
             f_b = 0.0  # negative control of the spec (S5): release as soon as the pedal moves
             f_cap = f_driver
@@ -319,7 +328,8 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
         else:
             # standing: net push N = F_t - F_b, rate-limited near the lightest car's breakaway
             f_d = min(f_driver, f_motor_max)
-            if f_d >= f_motor_max * 0.999 and k_hold > f_motor_max:
+            probing = f_d >= f_motor_max * 0.999 and k_hold > f_motor_max
+            if probing:
                 n_des = f_motor_max  # driver asks the motor's maximum: allow the brake to go (watched for rollback)
             else:
                 n_des = f_d - max(k_hold - f_d, 0.0)
@@ -340,7 +350,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
             f_b = max(f_b, k_hold - min(f_cap, f_driver, f_motor)) if n_des < f_motor_max else f_b
             f_b = max(f_b, 0.0)
         c.torque_force_n = min(f_cap, f_driver, f_motor)
-        if standing and c.torque_force_n + f_brake_meas < c.grade_force_n and pressure_ok:
+        if standing and c.torque_force_n + f_brake_meas < c.grade_force_n and pressure_ok and not probing:
             f_b = max(f_b, f_b_prev)  # Stage 3: released too fast -> no further release
         if rolling_back and int(p.hill_start_assist_release_mode) != RELEASE_IMMEDIATE:
             f_b = max(f_b, k_hold)  # rolling back: re-apply the hold force at once
