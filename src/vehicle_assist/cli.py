@@ -307,6 +307,10 @@ from vehicle_assist.cli_verify import register as _register_verify  # noqa: E402
 
 _register_verify(app)
 
+from vehicle_assist.cli_r139 import register as _register_r139  # noqa: E402  (UN R139 brake-assist test)
+
+_register_r139(app)
+
 
 def main() -> None:
     from vehicle_assist.scenarios.errors import InputError
