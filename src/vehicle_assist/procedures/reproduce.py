@@ -96,3 +96,10 @@ EXTRAS.update({name: (lambda out, _n=name: _verification_extras()[_n](out))
 
 def register(reproduction: Reproduction) -> None:
     REPRODUCTIONS.append(reproduction)
+
+
+# paper 002 (issue #9): passenger car with an ESP unit, ABS and hydraulic brake assist
+from vehicle_assist.procedures import brake_assist_study as _brake_assist_study  # noqa: E402
+
+REPRODUCTIONS.append(_brake_assist_study.reproduction())
+EXTRAS.update(_brake_assist_study.EXTRAS)
