@@ -61,7 +61,7 @@ def scenario_copy(tmp_path: Path, old: str = "", new: str = "", name: str = "s.t
 
 
 # ------------------------------------------------------------------------------------------ --out problems
-@pytest.mark.parametrize("kind", ["file", "under-file", "root", "empty", "unwritable", "nul"])
+@pytest.mark.parametrize("kind", ["file", "under-file", "root", "empty", "unwritable", "nul", "long", "symlink-loop"])
 def test_bad_out_is_refused_before_simulating(tmp_path, kind, monkeypatch):
     """Issue #14: --out that is a file, under a file, '/', '', not writable or holds a NUL is one line and
     exit 2 before the simulation runs (the simulator is replaced by a trap)."""
@@ -69,10 +69,13 @@ def test_bad_out_is_refused_before_simulating(tmp_path, kind, monkeypatch):
 
     monkeypatch.setattr(runner, "simulate", lambda sc: pytest.fail("simulated before --out was checked"))
     (tmp_path / "afile").write_text("x")
-    out = {"file": tmp_path / "afile", "under-file": tmp_path / "afile" / "sub", "root": "/", "empty": "",
+    (tmp_path / "l1").symlink_to(tmp_path / "l2")
+    (tmp_path / "l2").symlink_to(tmp_path / "l1")
+    out = {"long": "o" * 5000, "symlink-loop": tmp_path / "l1" / "out","file": tmp_path / "afile", "under-file": tmp_path / "afile" / "sub", "root": "/", "empty": "",
            "unwritable": "/proc/vehicle-assist-out", "nul": "a\x00b"}[kind]
     fragment = {"file": "is a file", "under-file": "a parent of it is a file", "root": "file-system root",
-                "empty": "empty path", "unwritable": "not writable", "nul": "NUL"}[kind]
+                "empty": "empty path", "unwritable": "not writable", "nul": "NUL", "long": "at most 4096",
+                "symlink-loop": "--out"}[kind]
     for command in (["run", "truck_11deg_late_release"], ["sweep", "truck_11deg_late_release", "--grid", "run.seed=1,2"]):
         one_line(invoke(*command, "--out", out), "--out", fragment)
     assert (tmp_path / "afile").read_text() == "x"

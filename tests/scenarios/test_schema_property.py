@@ -102,3 +102,26 @@ def test_any_document_loads_or_fails_with_one_line(tmp_path, doc):
         assert message and "\n" not in message and not _has_control(message), repr(message)
         return
     assert math.isfinite(sc.model.run.duration_s)
+
+
+SET_PATHS = ["road.slope_deg", "run.duration_s", "run.plant_step_s", "run.seed", "vehicle.body.mass_kg", "vehicle.base",
+             "vehicle.engine.full_load_torque", "vehicle.gearbox.gear_names", "driver.accelerator.frac", "events",
+             "checks", "sensors.engine_speed.noise_std_rpm", "name", "vehicle.hill_start_assist.enabled_flag"]
+set_text = st.one_of(st.sampled_from(["1", "-1", "nan", "inf", "true", '"14"', "[1, 2]", "{a = 1}", "[", "1e400", '"[/]x"',
+                                      '"\\u001b[2J"', "$x^$", "", "=", "[[[[1]]]]"]), st.text(max_size=10))
+
+
+@settings(max_examples=int(__import__("os").environ.get("VA_HYPOTHESIS_EXAMPLES", "300")), deadline=None)
+@given(assignments=st.lists(st.tuples(st.one_of(st.sampled_from(SET_PATHS), st.text(max_size=10)), set_text),
+                            min_size=1, max_size=3))
+def test_any_set_override_loads_or_fails_with_one_line(assignments):
+    """Property: any list of `--set path=value` on a shipped scenario, through load_scenario and through the
+    sweep's fast path (LoadedScenario.with_sets), either loads or raises InputError with one clean line."""
+    sets = [f"{p}={v}" for p, v in assignments]
+    for attempt in (lambda: load_scenario("truck_11deg_early_release", sets),
+                    lambda: load_scenario("truck_11deg_early_release").with_sets(*sets)):
+        try:
+            attempt()
+        except InputError as exc:
+            message = str(exc)
+            assert message and "\n" not in message and not _has_control(message), repr(message)
