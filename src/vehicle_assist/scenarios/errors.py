@@ -107,14 +107,19 @@ def _clean_loc(model: type[BaseModel], loc: tuple, kind: str) -> tuple:
     """``loc`` without the type tags pydantic adds inside unions ("float", "function-after[...]"); a part
     that is a real key (a field of the model there, or the unknown key itself) is kept even if it reads
     like a tag (``[run] list = 3``, ``float = 1``)."""
+    import typing
+
     out: list = []
+    dict_key = False  # the part after a dict-valued field is a user key (e.g. a sensor name), never a tag
     for i, part in enumerate(loc):
-        if isinstance(part, str) and (part in _TYPE_TAGS or "[" in part):
+        holder = _model_at(model, tuple(out)) if out else model
+        if isinstance(part, str) and (part in _TYPE_TAGS or "[" in part) and not dict_key:
             last = i == len(loc) - 1
-            holder = _model_at(model, tuple(out)) if out else model
             is_field = holder is not None and part in holder.model_fields
             if not (is_field or (last and kind == "extra_forbidden")):
                 continue
+        field = holder.model_fields.get(part) if holder is not None and isinstance(part, str) and not dict_key else None
+        dict_key = field is not None and typing.get_origin(field.annotation) is dict
         out.append(part)
     return tuple(out)
 
