@@ -46,8 +46,9 @@ def test_matrix_no_rollback_no_stall_release_in_phase_3(results, name):
 
 
 def test_engine_speed_peaks_of_the_paper_test_points(results):
-    """P13: peak engine speed about 1800 rpm full (crawler, throttle 0.70) and about 1100 rpm empty (1st, 0.27);
-    +/- 150 rpm (hill_start_amt.md 9.8: a calibration target, set by the governed speed at that throttle)."""
+    """Calibration target, not evidence (hill_start_amt.md 9.8 says so): P13's peaks 1800 rpm full (crawler,
+    pedal 0.70) and about 1100 rpm empty (1st, 0.27) are the governed speeds at the pedals chosen to give them;
+    the test only guards the calibration (+/- 150 rpm)."""
     full = results["hsa_truck_full_14deg_80bar"].metrics["engine_speed_peak_radps"] / RPM
     empty = results["hsa_truck_empty_11deg_80bar"].metrics["engine_speed_peak_radps"] / RPM
     assert abs(full - 1800.0) <= 150.0
@@ -66,12 +67,22 @@ def test_assist_removes_the_rollback_of_an_early_release():
     assert with_assist["park_release_phase_index"] == 3.0
 
 
-def test_late_release_drags_the_park_brake_far_more_than_the_assist(results):
-    """P6: releasing too late makes the clutch drive the truck through a park brake that is not released:
-    park-brake drag energy more than 10 x the assisted start's (issue: 'several times')."""
-    assisted = results["hsa_truck_full_14deg_80bar"].metrics["park_brake_drag_energy_j"]
-    late = results["hsa_truck_full_14deg_no_assist_late_release"].metrics["park_brake_drag_energy_j"]
-    assert late > 10.0 * max(assisted, 1.0)
+def test_study_reports_9_7_9_10_and_table_1_with_sources():
+    """Issue 7: the comparisons of hill_start_amt.md 9.7 (8 empty/full pairs), 9.10 (4 assisted/baseline pairs and
+    the S6 negative control) and 9.12 (Table 1 through the truck kernel) are in reproduce, each with its clause.
+    Table 1 must hold (+/- 0.1 s of the paper's 2.5/2.3/2.0/1.8 s); 9.7 and 9.10 are reported as they come out
+    (the note in docs/functions/hill_start_amt.md says why they fail): a FAIL must carry the measured numbers."""
+    from vehicle_assist.procedures.hill_start_amt_study import run_study
+
+    _, entries = run_study(None)
+    assert len([e for e in entries if "9.7" in e["why"]]) == 8
+    assert len([e for e in entries if "9.10" in e["why"]]) == 5
+    table = [e for e in entries if "Table 1" in e["why"]]
+    assert len(table) == 4 and all(e["pass"] for e in table)
+    for e in entries:
+        assert "hill_start_amt.md 9." in e["why"] and e["bound"]
+        if not e["pass"]:
+            assert any(ch.isdigit() for ch in e["why"].split(":")[-1])  # the measured numbers are in the reason
 
 
 def test_normal_start_never_energises_the_valve(results):
@@ -113,7 +124,9 @@ def test_paper_000_in_reproduce_summary(tmp_path):
     entries = run_reproductions(tmp_path, Console(file=open(tmp_path / "log.txt", "w")))
     ours = [e for e in entries if e["paper"] == "000"]
     assert len(ours) >= 16 * 6
-    assert all(e["pass"] for e in ours)
+    scenario_checks = [e for e in ours if e["scenario"] in PAPER_000.scenarios]
+    assert all(e["pass"] for e in scenario_checks)
+    assert any("9.7" in e["why"] for e in ours) and any("Table 1" in e["why"] for e in ours)
     assert {"paper", "scenario", "criterion", "value", "unit", "bound", "pass"} <= set(ours[0])
 
 

@@ -34,7 +34,7 @@ REPRODUCTIONS: list[Reproduction] = [
         figure_scenarios=("hsa_truck_full_14deg_80bar", "hsa_truck_empty_11deg_80bar", "hsa_truck_full_14deg_65bar",
                           "hsa_truck_full_14deg_no_assist_early_release", "hsa_truck_full_14deg_no_assist_late_release",
                           "truck_11deg_late_release"),
-        extras=("envelope_000", "falsify_000"),  # issue #7 envelope study, issue #8 falsification campaign
+        extras=("hill_start_amt_study", "envelope_000", "falsify_000"),  # 9.7/9.10/9.12; issue #7 envelope; #8
     ),
     Reproduction(
         "001",
@@ -82,6 +82,16 @@ def ehb_sweep_extra(out_dir):
 
 
 EXTRAS = {"ehb_sweep": ehb_sweep_extra}
+
+
+def _hill_start_amt_study(out_dir):
+    """Paper 000 criteria 9.7, 9.10 and 9.12 (procedures/hill_start_amt_study.py)."""
+    from vehicle_assist.procedures.hill_start_amt_study import hill_start_amt_extra
+
+    return hill_start_amt_extra(out_dir)
+
+
+EXTRAS["hill_start_amt_study"] = _hill_start_amt_study
 
 
 def _verification_extras() -> dict:
