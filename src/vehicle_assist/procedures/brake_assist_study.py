@@ -2,7 +2,8 @@
 
 * ``hba_benefit``: the paper's stop with and without HBA (issue #9: HBA off has the longer stopping distance),
   reported with activation time, MFDD, peak pressures;
-* ``r139``: the UN R139 procedure (procedures/r139.py) with its verdict rows.
+* ``r139``: the UN R139 procedure (procedures/r139.py) with its verdict rows;
+* ``hba_calibration``: detection / false-activation map and ROC over the thresholds (procedures/hba_calibration.py).
 """
 from __future__ import annotations
 
@@ -80,7 +81,13 @@ def reproduction():
         "braking, low speed, wet, snow, split-mu, faults, and the UN R139 category B test",
         scenarios, figures=("brake_assist",),
         figure_scenarios=("hba_paper_110kph_dry", "hba_off_110kph_dry", "hba_exit_by_release_110kph", "hba_split_mu_80kph"),
-        extras=("hba_benefit", "r139"))
+        extras=("hba_benefit", "r139", "hba_calibration"))
 
 
-EXTRAS = {"hba_benefit": hba_benefit_extra, "r139": r139_extra}
+def calibration_extra(out_dir: Path):
+    from vehicle_assist.procedures.hba_calibration import calibration_extra as run
+
+    return run(out_dir)
+
+
+EXTRAS = {"hba_benefit": hba_benefit_extra, "r139": r139_extra, "hba_calibration": calibration_extra}
