@@ -341,3 +341,18 @@ def test_unwritable_compile_cache_falls_back_with_a_warning(tmp_path):
     assert not cache_dir.startswith("/proc") and os.access(cache_dir, os.W_OK)
     assert ok.startswith("ok: ")
     assert "warning: compile cache" in res.stderr and "not writable" in res.stderr
+
+
+def test_api_simulate_refuses_a_run_that_cannot_fit_in_memory():
+    """Issue #14 (102 GiB runs): the Python API refuses too, before allocating, when the estimate exceeds the
+    machine's memory (reference: 3.6e8 trace rows of >= 200 bytes are > 60 GiB on any machine here)."""
+    import vehicle_assist as va
+    from vehicle_assist.scenarios.errors import InputError
+    from vehicle_assist.scenarios.guards import physical_memory
+
+    sc = va.load_scenario("truck_11deg_late_release", ["run.duration_s=3600", "run.plant_step_s=1e-5",
+                                                       "run.record_period_s=1e-5", "run.controller_period_s=1e-4"])
+    if (physical_memory() or 0) > 1 << 40:
+        pytest.skip("machine with more than 1 TiB of memory")
+    with pytest.raises(InputError, match="cannot run"):
+        va.simulate(sc)

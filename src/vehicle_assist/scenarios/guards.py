@@ -235,7 +235,8 @@ def estimate_run(sc, write: bool = True) -> Estimate:
     disk = values * (8 + CSV_BYTES_PER_VALUE) if write else 0.0
     if write:
         seconds += values * 1e-6  # CSV formatting (%.17g), measured ~1 us per value
-    return Estimate(f"run {plain(sc.name)}", records * row * RUN_MEMORY_FACTOR, seconds, disk)
+    factor = RUN_MEMORY_FACTOR if write else 3  # without writing: buffer, channel copies, metric temporaries
+    return Estimate(f"run {plain(sc.name)}", records * row * factor, seconds, disk)
 
 
 def estimate_sweep(sc, n_variants: int, workers: int, chunk: int) -> Estimate:

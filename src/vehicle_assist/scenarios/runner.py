@@ -163,6 +163,9 @@ def simulate(sc: LoadedScenario, requirements: bool = True) -> Result:
     lay = layouts.get(sc.layout)
     p = pack_records([sc.vehicle.flat()])
     s = pack_records([sc.flat])
+    from vehicle_assist.scenarios.guards import estimate_run, refuse_past_bounds
+
+    refuse_past_bounds(estimate_run(sc, write=False), yes=True)  # API callers too: never past the machine's memory
     trace_rows = np.zeros(_n_records(sc), dtype=lay.TRACE_DTYPE).view(np.recarray)
     events = np.zeros((EVENT_BUFFER, EVENT_FIELDS))
     n_rec, n_ev = lay.run_kernel(p[0], s[0], _noise(sc, len(lay.SENSORS)), trace_rows, events)
