@@ -101,7 +101,8 @@ PEDAL_STEP = 1e-4  # brake-pedal change per period that counts as moving it (ped
 RELEASE_MODES = {"follow_torque": RELEASE_FOLLOW, "immediate": RELEASE_IMMEDIATE}
 RELEASE_RAMP_S = 0.5  # brake release after breakaway: rate ramp-up time (assumed, 10 x tau_ehb)
 RELEASE_TAIL_S = 0.2  # and ease-out time constant near zero (assumed, 4 x tau_ehb)
-SLIDE_CONFIRM_S = 0.3  # rolling back this long with the forces not transmitted: the tyres slide (assumed)
+SLIDE_CONFIRM_S = 0.3  # rolling back this long (summed) while the applied forces would hold the heaviest car or are
+# not transmitted: the tyres slide (assumed; a biased slope sensor is caught within ~0.1 s)
 MOTOR_AT_LIMIT_FRAC = 0.99  # measured torque >= 99 % of the maximum counts as "at the motor's limit" (assumed)
 
 STATE_DTYPE = np.dtype([
@@ -121,10 +122,10 @@ STATE_DTYPE = np.dtype([
     ("ceiling_force_n", "f8"),             # the ceiling as a force at the wheels
     ("brake_force_command_n", "f8"),       # F_b the assist commands
     ("net_push_n", "f8"),                  # N = F_t - F_b commanded (rate-limited near breakaway)
-    ("mass_ratio", "f8"),
-    ("release_rate_n_per_s", "f8"),
+    ("mass_ratio", "f8"),                  # lower bound of the car's mass / m_light, proven by holding at N
+    ("release_rate_n_per_s", "f8"),        # brake release rate after breakaway (ramped, smooth for the jerk)
     ("driver_force_prev_n", "f8"),         # the driver's request (as a force) one period ago
-    ("rollback_time_s", "f8"),             # how long the car has been rolling back without a break        # brake release rate after breakaway (ramped, smooth for the jerk)                  # lower bound of the car's mass / m_light, proven by holding at N
+    ("rollback_time_s", "f8"),             # time rolling back, summed over the engagement
     ("refusal_code", "f8"),                # 0 none, k = 1 + index in REFUSAL_GUARDS
     ("warning_flag", "f8"),
 ])
@@ -186,12 +187,15 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     # the EHB delivers what is asked and the forces reach the ground (more pressure does not cure a
     # pressure the EHB cannot build, nor sliding tyres), and never beyond the car's weight
     delivering = pressure_ok and m.brake_pressure_pa >= 0.9 * c.pressure_command_pa
-    c.rollback_time_s = c.rollback_time_s + dt if rolling_back else 0.0
+    if rolling_back:
+        c.rollback_time_s += dt  # summed over the engagement (reset on entering HOLD): a car that creeps back in
+        # short bursts, each caught by the correction below, is sliding too
     if (active or mode == REFUSED) and delivering and rolling_back:
         c.rollback_correction_n += p.hill_start_assist_rollback_gain_n_per_s * dt
     # sliding tyres are told from an under-estimated grade (biased slope sensor, heavier car) by persistence:
     # the correction above catches the latter within a few periods
-    sliding = not_transmitted and c.rollback_time_s >= SLIDE_CONFIRM_S
+    sliding = rolling_back and c.rollback_time_s >= SLIDE_CONFIRM_S and (
+        not_transmitted or (active and delivering and applied >= hold_heaviest))
     # (never beyond the weight of the heaviest car the hold covers)
     c.grade_force_n = min(mass * g_acc * math.sin(gamma) + c.rollback_correction_n, mass * g_acc)
     margin = p.hill_start_assist_margin_rolling_frac * mass * g_acc * f_coef * math.cos(gamma)
@@ -250,6 +254,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
         if new_mode == HOLD:
             c.pressure_command_pa = max(m.brake_pressure_pa, 0.0) if pressure_ok else c.hold_pressure_pa
             c.slope_checked_flag = 1.0
+            c.rollback_time_s = 0.0
             c.brake_force_command_n = k_b * c.pressure_command_pa / r
             c.ceiling_force_n = 0.0
             c.hold_time_s = 0.0
