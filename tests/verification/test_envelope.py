@@ -80,8 +80,10 @@ def test_pedal_profile_by_hand():
 
 def test_ev_run_lasts_past_the_slowest_pedal():
     env = load_envelope("hill_start_ehb")
-    sc = env.scenario(dict(env.center(), **{"accelerator.rate_per_s": 0.01, "driver": "steady"}))
+    sc = env.scenario(dict(env.center(), **{"accelerator.rate_per_s": 0.01, "accelerator.level_frac": 0.5, "driver": "steady"}))
     assert sc.model.run.duration_s == pytest.approx(2.0 + 50.0 + 6.0)
+    sc = env.scenario(dict(env.center(), **{"accelerator.rate_per_s": 0.01, "accelerator.level_frac": 1.0, "driver": "steady"}))
+    assert sc.model.run.duration_s == pytest.approx(60.0)  # max_duration_s of the envelope file
 
 
 @pytest.mark.parametrize("edit, field", [

@@ -75,7 +75,7 @@ def test_coarse_grid_study_counts(tmp_path):
     for name, levels in (("hill_start_amt", {"mass": [30000], "slope": [0, 14], "reservoir": [8.0], "accelerator.start_s": [1.2],
                                              "accelerator.duration_s": [0.5], "accelerator.level_frac": [0.7],
                                              "hand_valve.at_s": [0.5], "start_gear": ["crawler"], "surface": ["gravel", "wet"]}),
-                         ("hill_start_ehb", {"mass": [1500], "slope": [0, 10], "mu": [1.0], "accelerator.rate_per_s": [0.045],
+                         ("hill_start_ehb", {"mass": [1500], "slope": [0, 10], "mu": [1.0], "accelerator.rate_per_s": [0.045], "accelerator.level_frac": [0.5],
                                              "driver": ["steady", "impatient"]})):
         s = st.envelope_study(name, levels, tmp_path)
         assert s["points"] == 4 and s["runs"] == 8

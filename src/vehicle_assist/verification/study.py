@@ -40,10 +40,25 @@ def _study_metrics(layout: str) -> tuple[list[str], list[str]]:
 
     chans = layouts.get(layout).CHANNELS
     wanted = ["rollback_distance_m", "rollback_speed_mps", "engine_stalled_flag", "jerk_filtered_peak_mps3",
-              "assist_refusal_code"]
+              "assist_refusal_code", "final_speed_mps"]
     names = [n for n in wanted if n in METRICS and all(c in chans for c in METRICS[n].requires)]
     keep = ["assist_refusal_code"] if "assist_refusal_code" not in names and "assist_refusal_code" in chans else []
     return names, keep
+
+
+def braked_adhesion_holds(sc) -> bool:
+    """Closed form: can the braked wheels hold the vehicle at rest on this grade? mu * F_z,braked >= m g sin(a),
+    i.e. mu * r * cos(a) >= sin(a) with r the load share of the braked wheels (EV: all four wheels, r = 1;
+    truck: the spring brake acts on the rear tandem, r from the axle-load split of the vehicle file)."""
+    a = math.radians(sc.model.road.slope_deg or 0.0)
+    mu = sc.model.road.friction_mu if sc.model.road.friction_mu is not None else 1.0
+    r = 1.0
+    axles = getattr(sc.vehicle.model, "axles", None)
+    if sc.layout == "truck_amt" and axles is not None and hasattr(axles, "empty_rear_load_frac"):
+        m = sc.vehicle.model.body.mass_kg
+        m0 = min(getattr(axles, "empty_mass_kg", m), m)
+        r = (m0 * axles.empty_rear_load_frac + (m - m0) * axles.payload_rear_load_frac) / m
+    return mu * r * math.cos(a) >= math.sin(a)
 
 
 def run_points(env: Envelope, points: list[dict], baseline: bool = True, chunk: int = 256, progress=None
@@ -113,7 +128,9 @@ def envelope_study(envelope: str | Envelope, levels: dict, out: Path, sets: list
         idx = int(round(k)) - 1
         reason = reasons[idx] if 0 <= idx < len(reasons) else f"code {int(round(k))}"
         refusals[reason] = refusals.get(reason, 0) + 1
-    refused_rolled = int(np.sum((code >= 1) & (rb > ROLLBACK_FLOOR_M)))
+    holdable = np.array([braked_adhesion_holds(env.scenario(p)) for p in points]) if (code >= 1).any() else np.ones(len(points), bool)
+    refused_rolled = int(np.sum((code >= 1) & (rb > ROLLBACK_FLOOR_M) & holdable))
+    refused_sliding = int(np.sum((code >= 1) & ~holdable))
     bad = np.nonzero(margin < 0)[0]
     order = bad[np.argsort(margin[bad])]
     cex = [{"point": points[i], "margin_m": float(margin[i]), "rollback_m": float(rb[i]), "baseline_rollback_m": float(rb0[i]),
@@ -133,12 +150,17 @@ def envelope_study(envelope: str | Envelope, levels: dict, out: Path, sets: list
         "stalls_caused": int(np.sum(stall & ~stall0)),
         "worst_jerk_mps3": float(np.nanmax(jerk)) if np.any(np.isfinite(jerk)) else math.nan,
         "refusal_metric_present": has_refusal, "refusal_reasons": list(reasons), "refusals": refusals,
-        "refused_with_rollback": refused_rolled,
+        "refused_with_rollback": refused_rolled, "refused_beyond_braked_adhesion": refused_sliding,
         "worst_counterexamples": cex,
+        "not_started_assisted": int(np.sum(np.array([m.get("final_speed_mps", np.nan) for m in assisted]) < 0.5)),
+        "not_started_baseline": int(np.sum(np.array([b.get("final_speed_mps", np.nan) for b in base]) < 0.5)),
     }
     if "driver" in env.names and "accelerator.rate_per_s" in env.names:
+        # where the assist acts: grades above its activation threshold (vehicle file slope_min_deg)
+        slope_min = float(getattr(env.base_scenario.vehicle.model.hill_start_assist, "slope_min_deg", 0.0))
         sel = np.array([p["driver"] == "steady" and p["accelerator.rate_per_s"] <= 2 * PAPER_PEDAL_RATE_PER_S + 1e-12
-                        for p in points])
+                        and p.get("slope", 90.0) > slope_min for p in points])
+        summary["jerk_slope_min_deg"] = slope_min
         summary["jerk_steady_upto_2x_paper_rate_mps3"] = float(np.nanmax(jerk[sel])) if sel.any() else math.nan
         summary["jerk_steady_upto_2x_paper_points"] = int(sel.sum())
     out = Path(out)
