@@ -460,3 +460,12 @@ def test_toml_suffix_is_required_for_files(tmp_path):
     path.write_text(SCENARIO.read_text(encoding="utf-8"), encoding="utf-8")
     assert_names(load_error(path), "not a .toml file")
     assert_names(load_error("/proc/self/environ"), "not a .toml file")
+
+
+def test_another_toml_as_the_scenario_does_not_list_its_keys(tmp_path):
+    """Issue #14: a TOML file that is not a scenario at all is refused without echoing its key names."""
+    other = tmp_path / "config.toml"
+    other.write_text('secret_token_name = "x"\n[database]\npassword_hint = "y"\n', encoding="utf-8")
+    message = load_error(other)
+    assert_names(message, "not a scenario file")
+    assert "secret_token_name" not in message and "database" not in message
