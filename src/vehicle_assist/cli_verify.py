@@ -90,6 +90,7 @@ def study(
     samples: int = typer.Option(256, "--samples", "-n", help="coverage: number of quasi-random points"),
     method: str = typer.Option("sobol", "--method", help="coverage sampling: sobol, lhs or random"),
     sensitivity: int = typer.Option(0, "--sensitivity", help="Sobol sensitivity: base sample size N (0 = skip; runs N*(D+2) points)"),
+    output: str = typer.Option("violated", "--output", help="sensitivity of: violated (1 where robustness < 0) or robustness"),
     seed: int = typer.Option(0, "--seed"),
     set_: Optional[List[str]] = typer.Option(None, "--set", "-s", help="fixed override for every point (repeatable)"),
     out: Path = typer.Option(Path("out/study"), "--out", "-o", help="output directory"),
@@ -107,8 +108,8 @@ def study(
                       f"{requirement}; minimum robustness {_num(cov['min_robustness'])} {cov['unit']}; figure {cov['figure']}")
         if sensitivity:
             sens = sensitivity_study(envelope, requirement, sensitivity, seed=seed, sets=list(set_ or []), out=out,
-                                     console=console)
-            table = RichTable(title=f"Sobol indices of the robustness of {requirement} ({sens['points']} points)")
+                                     console=console, output=output)
+            table = RichTable(title=f"Sobol indices of {output} for {requirement} ({sens['points']} points)")
             for col in ("dimension", "S1", "S1 conf", "ST", "ST conf"):
                 table.add_column(col)
             for row in sens["indices"]:
