@@ -386,7 +386,12 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
         # the spring brake acts on the rear tandem, the service brake on all axles: both adhesion-limited; the
         # rear tyres pass drive and park-brake force together (drive force of the previous step)
         f_pb_cap_brake = f_pb_cap  # the brake's own capacity F_g_cap(p_sp), recorded (paper 000 Fig. 5 phases)
-        f_pb_cap = min(f_pb_cap, max(f_adh - max(f_t, 0.0), 0.0))
+        # holding against a rollback the tyres pass F_t + F_pb <= mu F_z; against the drive (phase 3, F_pb downhill)
+        # they pass F_t - |F_pb|, so the adhesion limits the brake only in the first case
+        if f_t < f_i:
+            f_pb_cap = min(f_pb_cap, max(f_adh - max(f_t, 0.0), 0.0))
+        else:
+            f_pb_cap = min(f_pb_cap, f_adh + f_t)
         f_sb_cap = min(f_sb_cap, max(f_adh_all - f_pb_cap, 0.0))
         hold_cap = f_roll_cap + f_sb_cap + f_pb_cap
         if x_c != last_x_c:  # the capacity map only when the clutch moves
