@@ -40,6 +40,11 @@ CASES = {
     "assist_takes_over_in_approach": HSA_ON + ['driver.accelerator={time_s=[0.0, 0.9, 1.4], frac=[0.0, 0.0, 0.27]}'],
     # the same with the accelerator pressed long before the brake release: the start program is in ENGAGE
     "assist_takes_over_in_engage": HSA_ON + ['driver.accelerator={time_s=[0.0, 0.2, 0.7], frac=[0.0, 0.0, 0.27]}'],
+    # issue 7: 28 t on 13 deg in 1st at pedal 0.5 with the assist's lock-up check removed (seeded defect): after
+    # the hand-over the engine is pulled down on the grade, the assist's rollback catch takes the closed clutch
+    "assist_takes_over_when_closed": HSA_ON + [
+        "vehicle.body.mass_kg=28000", "road.slope_deg=13", 'driver.accelerator={time_s=[0.0, 1.0, 1.5], frac=[0.0, 0.0, 0.5]}',
+        "vehicle.hill_start_assist.lockup_engine_check_flag=0", "run.duration_s=10"],
 }
 
 EXPECTED = {
@@ -56,6 +61,8 @@ EXPECTED = {
                                       ("OPEN", "CLOSED", "assist_handed_over")],
     "assist_takes_over_in_engage": [("OPEN", "APPROACH", "launch_requested"), ("APPROACH", "ENGAGE", "kiss_point_reached"),
                                     ("ENGAGE", "OPEN", "assist_took_over"), ("OPEN", "CLOSED", "assist_handed_over")],
+    "assist_takes_over_when_closed": [("OPEN", "APPROACH", "launch_requested"), ("APPROACH", "OPEN", "assist_took_over"),
+                                      ("OPEN", "CLOSED", "assist_handed_over"), ("CLOSED", "OPEN", "assist_took_over")],
 }
 
 

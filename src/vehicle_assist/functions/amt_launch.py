@@ -16,8 +16,9 @@ Modes and transitions (first matching row wins; every change is logged with its 
     ENGAGE    -> OPEN      launch_abandoned
     LOCKUP    -> CLOSED    clutch_closed           clutch command reached 1
     CLOSED    -> OPEN      engine_pulled_down      engine speed below the anti-stall speed (stopping)
-    APPROACH, ENGAGE, LOCKUP, CLOSED -> OPEN  assist_took_over   set by the vehicle composition (never by
-                                                   this step) when the hill-start assist takes the clutch
+    APPROACH, ENGAGE, CLOSED -> OPEN  assist_took_over   set by the vehicle composition (never by this
+                                                   step) when the hill-start assist takes the clutch (CLOSED: its
+                                                   rollback catch after it handed the closed clutch over)
     OPEN      -> CLOSED    assist_handed_over      set by the vehicle composition when the hill-start assist
                                                    finishes with the clutch closed (never by this step)
 
@@ -59,7 +60,6 @@ MACHINE = StateMachine(
         # set by the vehicle composition (never by this step): an assist takes the clutch, and hands it back
         Transition("APPROACH", "OPEN", "assist_took_over"),
         Transition("ENGAGE", "OPEN", "assist_took_over"),
-        Transition("LOCKUP", "OPEN", "assist_took_over"),
         Transition("CLOSED", "OPEN", "assist_took_over"),
         Transition("OPEN", "CLOSED", "assist_handed_over"),
     ),

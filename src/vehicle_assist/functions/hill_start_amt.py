@@ -341,8 +341,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     g[G_KISS] = c.clutch_command_frac >= p.clutch_kiss_point_frac
     g[G_RELEASE] = at_release_point and m.hand_valve_released_flag > 0.5 and torque_ok
     g[G_PULLED_DOWN] = (catch_on and engine_ok and m.engine_speed_radps < p.hill_start_assist_guard_speed_radps
-                        and m.vehicle_speed_mps < p.hill_start_assist_moving_speed_mps and t_hold > 0.0
-                        and not brake_applied)
+                        and t_hold > 0.0 and not brake_applied)  # before the AMT's own 550 rpm opening
     g[G_SLIP_SMALL] = (abs(slip_meas) <= p.hill_start_assist_lockup_slip_radps
                        and m.vehicle_speed_mps > p.hill_start_assist_moving_speed_mps and lock_ok)
     g[G_CLOSED] = c.clutch_command_frac >= 1.0 and (int(c.mode) != STOOD_DOWN

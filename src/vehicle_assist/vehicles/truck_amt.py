@@ -355,7 +355,7 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
                 hsa_active = hill_start_amt.is_active(hsa)
                 tcu_mode = int(tcu.mode)
                 if hsa_active and (tcu_mode == amt_launch.APPROACH or tcu_mode == amt_launch.ENGAGE
-                                   or tcu_mode == amt_launch.LOCKUP or tcu_mode == amt_launch.CLOSED):
+                                   or tcu_mode == amt_launch.CLOSED):
                     # the assist takes the clutch from a launch the start program had begun
                     n_events = log_event(events, n_events, t, M_AMT, int(tcu.mode), amt_launch.OPEN,
                                          amt_launch.G_TOOK_OVER)
