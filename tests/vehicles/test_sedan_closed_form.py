@@ -30,7 +30,7 @@ def test_locked_wheels_decelerate_at_mu_g(scale: float) -> None:
     r = run(*NO_RESIST, ABS_FAILED, f"road.friction_mu={scale}",
             'driver.brake_pedal={time_s=[0.0, 0.1, 0.11], frac=[0.0, 0.0, 1.0]}', "run.duration_s=12")
     tr = r.trace
-    locked = np.all([tr[f"wheel_slip_{w}"] >= 1.0 for w in ("fl", "fr", "rl", "rr")], axis=0) & (tr["speed_mps"] > 1)
+    locked = np.all([tr[f"wheel_slip_{w}_frac"] >= 1.0 for w in ("fl", "fr", "rl", "rr")], axis=0) & (tr["speed_mps"] > 1)
     assert locked.sum() > 100
     a = tr["accel_mps2"][locked]
     expected = -MU_LOCKED_DRY * scale * 9.81

@@ -27,7 +27,7 @@ P12). Each metric works on one run or on a batch (rows), computed row by row; Na
   ``rampout_undershoot_pa``: max (p_src - p_w) during TERMINATING (criterion 7: <= 2 bar).
 * ``hba_build_time_s``, ``hba_abs_time_s``, ``hba_rampout_time_s``: time per HBA phase (active build with
   no ABS hold/dump, ABS intervention, ramp-out).
-* ``heading_max_deg``, ``yaw_rate_max_degps``, ``lateral_deviation_max_m``: split-mu stability.
+* ``heading_max_deg``, ``yaw_rate_max_radps``, ``lateral_deviation_max_m``: split-mu stability.
 """
 from __future__ import annotations
 
@@ -256,7 +256,7 @@ _DEFS = [
      ("hba_mode_index", "master_pressure_pa", "wheel_pressure_fl_pa", "wheel_pressure_fr_pa"),
      "highest front wheel pressure / p_mc while HBA ACTIVE"),
     ("abs_intervened_flag", _abs_intervened, ABS_MODES, "an ABS hold or dump happened"),
-    ("wheel_lock_time_max_s", _lock_time, ("speed_mps",) + tuple(f"wheel_slip_{w}" for w in W),
+    ("wheel_lock_time_max_s", _lock_time, ("speed_mps",) + tuple(f"wheel_slip_{w}_frac" for w in W),
      "longest spell with a wheel slip > 0.5 above 15 km/h"),
     ("wheel_stopped_moving_flag", _stopped_moving, ("speed_mps",) + tuple(f"wheel_speed_{w}_radps" for w in W),
      "a wheel stood still while the car moved faster than 5 km/h"),
@@ -271,7 +271,7 @@ _DEFS = [
     ("hba_abs_time_s", _phase_time("abs"), ("hba_mode_index",) + ABS_MODES, "time ACTIVE with ABS intervening"),
     ("hba_rampout_time_s", _phase_time("rampout"), ("hba_mode_index",) + ABS_MODES, "time in ramp-out"),
     ("heading_max_deg", lambda t, h: float(np.degrees(np.max(np.abs(h)))), ("heading_rad",), "largest |heading|"),
-    ("yaw_rate_max_degps", lambda t, r: float(np.degrees(np.max(np.abs(r)))), ("yaw_rate_radps",), "largest |yaw rate|"),
+    ("yaw_rate_max_radps", lambda t, r: float(np.max(np.abs(r))), ("yaw_rate_radps",), "largest |yaw rate|"),
     ("lateral_deviation_max_m", lambda t, y: float(np.max(np.abs(y))), ("y_m",), "largest |lateral offset|"),
 ]
 for _name, _fn, _names, _doc in _DEFS:

@@ -20,7 +20,7 @@ BRAKE_PANELS = [
     Panel("Driver", "pedal force [N]", (Line("pedal_force_n", "pedal force"),)),
     Panel("Pressures", "pressure [bar]", (Line("master_pressure_pa", "master", 1.0 / BAR_TO_PA, "--"),)
           + tuple(Line(f"wheel_pressure_{w}_pa", w, 1.0 / BAR_TO_PA) for w in _W)),
-    Panel("Wheel slip", "slip [-]", tuple(Line(f"wheel_slip_{w}", w) for w in _W), ylim=(-0.02, 1.02)),
+    Panel("Wheel slip", "slip [-]", tuple(Line(f"wheel_slip_{w}_frac", w) for w in _W), ylim=(-0.02, 1.02)),
     Panel("Modes", "index", (Line("hba_mode_index", "HBA (0 off, 1 active, 2 ramp-out)"),
                              Line("abs_mode_fl_index", "ABS fl (1 hold, 2 dump, 3 build)", 1.0, "--"),
                              Line("abs_mode_rl_index", "ABS rl", 1.0, ":"))),

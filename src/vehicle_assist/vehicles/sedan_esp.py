@@ -97,7 +97,7 @@ _CH = {
 }
 for _w in WHEELS:
     _CH[f"wheel_speed_{_w}_radps"] = f"wheel speed {_w}"
-    _CH[f"wheel_slip_{_w}"] = f"braking slip {_w} (0 rolling, 1 locked), plant"
+    _CH[f"wheel_slip_{_w}_frac"] = f"braking slip {_w} (0 rolling, 1 locked), plant"
     _CH[f"wheel_load_{_w}_n"] = f"vertical load {_w}"
     _CH[f"wheel_pressure_{_w}_pa"] = f"wheel-cylinder pressure {_w}"
     _CH[f"source_pressure_{_w}_pa"] = f"driver's pressure at {_w} (p_mc front, p_prop(p_mc) rear)"
@@ -342,10 +342,10 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, tr, events):
             row.wheel_speed_fr_radps = omega[1]
             row.wheel_speed_rl_radps = omega[2]
             row.wheel_speed_rr_radps = omega[3]
-            row.wheel_slip_fl = slip[0]
-            row.wheel_slip_fr = slip[1]
-            row.wheel_slip_rl = slip[2]
-            row.wheel_slip_rr = slip[3]
+            row.wheel_slip_fl_frac = slip[0]
+            row.wheel_slip_fr_frac = slip[1]
+            row.wheel_slip_rl_frac = slip[2]
+            row.wheel_slip_rr_frac = slip[3]
             row.wheel_load_fl_n = fz[0]
             row.wheel_load_fr_n = fz[1]
             row.wheel_load_rl_n = fz[2]
