@@ -53,6 +53,7 @@ SUFFIX_UNITS: dict[str, str] = {
     "_ratio": "1",
     "_flag": "1",
     "_count": "1",
+    "_code": "1",  # an enumerated code (e.g. assist_refusal_code: 0 none, k = 1 + index in REFUSAL_REASONS)
     "_hz": "Hz",
     "_m2": "m^2",
     "_nm_per_pa": "N*m/Pa",
