@@ -28,6 +28,8 @@ def test_shipped_scenario_checks(name: str) -> None:
             assert "KNOWN FAIL" in c.why
         else:
             assert c.ok, f"{name}: {c.metric} = {c.value:g} violates {c.bound} ({c.why})"
+    for q in r.requirements:  # STL requirements of data/requirements/brake_assist.toml attached to the scenario
+        assert q.ok, f"{name}: requirement {q.id} robustness {q.robustness:g}"
 
 
 def test_hba_shortens_the_stop() -> None:
