@@ -113,3 +113,9 @@ from vehicle_assist.procedures import brake_assist_study as _brake_assist_study 
 
 REPRODUCTIONS.append(_brake_assist_study.reproduction())
 EXTRAS.update(_brake_assist_study.EXTRAS)
+
+# paper 003 (issue #11): AMT car with curve-aware shifting and map preview
+from vehicle_assist.procedures import curve_shift_study as _curve_shift_study  # noqa: E402
+
+REPRODUCTIONS.append(_curve_shift_study.reproduction())
+EXTRAS.update(_curve_shift_study.EXTRAS)

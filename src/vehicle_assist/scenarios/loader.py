@@ -416,6 +416,12 @@ def build_scenario_record(sc: LoadedScenario, where: str) -> dict:
         flat["road_rolling_resistance"] = Table.constant("distance_m", "coeff", coeff)
     flat["road_friction"] = (_table(road.friction, "distance_m", "mu", "distance_m", "mu") if road.friction is not None
                              else Table.constant("distance_m", "mu", road.friction_mu if road.friction_mu is not None else 1.0))
+    road_hook = getattr(lay, "scenario_record", None)  # layouts that drive along the road's curvature (amt_car)
+    if road_hook is not None:
+        flat.update(road_hook(sc, where))
+    elif road.opendrive is not None:
+        raise InputError(f"{where}: road.opendrive: the {sc.layout} vehicle does not follow a road's curvature; "
+                         "use a vehicle of the amt_car layout")
 
     d = m.driver
     for name in ("hand_valve", "steering", "gear_lever"):

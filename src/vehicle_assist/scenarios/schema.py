@@ -54,9 +54,13 @@ class Road(Strict):
     friction_mu: Annotated[float, Field(ge=0.05, le=1.5)] | None = None
     friction: FrictionTable | None = None
     curve_radius: RadiusTable | None = None
+    opendrive: Annotated[str, Field(min_length=1, max_length=4096)] | None = None  # .xodr reference line (issue #11)
+    opendrive_road_id: str | None = None
 
     @model_validator(mode="after")
     def _one(self):
+        if self.opendrive is not None and self.curve_radius is not None:
+            raise ValueError("give either opendrive (a .xodr road) or curve_radius (a table), not both")
         if self.slope_deg is not None and self.slope is not None:
             raise ValueError("give either slope_deg (constant) or slope (table over distance), not both")
         if self.rolling_resistance_coeff is not None and self.rolling_resistance is not None:

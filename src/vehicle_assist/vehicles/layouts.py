@@ -14,6 +14,7 @@ _MODULES = {
     "truck_amt": "vehicle_assist.vehicles.truck_amt",
     "ev_ehb": "vehicle_assist.vehicles.ev_ehb",
     "sedan_esp": "vehicle_assist.vehicles.sedan_esp",
+    "amt_car": "vehicle_assist.vehicles.amt_car",
 }
 
 

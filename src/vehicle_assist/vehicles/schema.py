@@ -379,3 +379,8 @@ from vehicle_assist.vehicles import sedan_schema as _sedan_schema  # noqa: E402
 
 LAYOUTS["sedan_esp"] = _sedan_schema.SedanEspVehicle
 CODES.update(_sedan_schema.CODES)
+
+# AMT car of paper 003 (issue #11): its schema lives in amt_car_schema.py
+from vehicle_assist.vehicles import amt_car_schema as _amt_car_schema  # noqa: E402
+
+LAYOUTS["amt_car"] = _amt_car_schema.AmtCar

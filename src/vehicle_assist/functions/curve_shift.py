@@ -1,0 +1,218 @@
+"""Curve-aware AMT shift strategy with map preview (paper 003; curve_shift.md 4-5).
+
+Measurements read (the TCU's view, never plant state): vehicle speed, accelerator, engaged gear, and the map
+preview (electronic horizon) of the next curve: distance to its start, radius, length and a validity flag.
+
+Modes (a StateMachine, first matching row wins; each change logged with its guard):
+
+    NORMAL -> CURVE   curve_command   preview valid, the next curve starts within command_distance_m, and (unless
+                                      the file says otherwise) the car is faster than the driver's curve speed
+                                      u3 = sqrt(a_y_fit(R)*R) (P9 rule 1: curves needing no deceleration are no
+                                      curves); the strategy is enabled
+    CURVE  -> NORMAL  curve_left      distance integrated from the measured speed since the command exceeds the
+                                      commanded distance + curve length (P13: position from speed integration)
+
+At the command (curve_shift.md 5.2): a_y_pred = u_cmd^2/R (held for the whole curve mode),
+a_ypot = a_y_fit(clamp(R, 20, 500))/k (eq. 9, 10), a_ys(u_cmd) from the handling diagram (sec. 3, a table over
+speed computed from the vehicle's axle data), and
+
+    frac = 0 (a_y_pred <= a_ypot),  (a_y_pred - a_ypot)/(a_ys - a_ypot) (between),  1 (>= a_ys)
+    kj(g) = frac*kj_max(g, theta),  kj_max = (u_max(g) - u_a)/u_a  (eq. 14),  u' = u_a*(1 + kj)  (eq. 15)
+    u_max(g) = w_max_dn*r/(i_g(g)*i_0)   (n_max_dn: the highest engine speed allowed after a downshift)
+
+Gear choice every period (in gear, after the dwell since the last shift):
+* CURVE: no upshift (P9 rule 1); skip downshifts (P9 rule 2): g_t drops while
+  u <= min(u_dn(g_t -> g_t - 1, theta)*(1 + kj(g_t - 1)), u_max(g_t - 1)) and n_e(u, g_t - 1) <= n_guard;
+  the AMT executes the whole drop as one shift.
+* NORMAL: the normal schedule (functions/shift_schedule.py), one gear at a time.
+* Engine over-speed guard (always): never command a gear whose engine speed would exceed n_guard.
+``fixed_kj_ratio >= 0`` replaces frac*kj_max by that value (clipped to kj_max): the proving-ground replication
+of curve_shift.md 8 criterion 11 ("kj chosen assuming a 53 km/h passage", P13).
+"""
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+from vehicle_assist.core.fsm import StateMachine, Transition, log_event, next_mode
+from vehicle_assist.core.tables import interp
+from vehicle_assist.functions.shift_schedule import downshift_speed_mps, normal_target_gear
+
+MACHINE = StateMachine(
+    "curve_shift",
+    modes=("NORMAL", "CURVE"),
+    transitions=(
+        Transition("NORMAL", "CURVE", "curve_command", "preview: a curve that needs deceleration within the command distance"),
+        Transition("CURVE", "NORMAL", "curve_left", "travelled past the commanded distance + curve length"),
+    ),
+    doc=__doc__ or "",
+)
+TABLE = MACHINE.table()
+NORMAL, CURVE = range(2)
+G_COMMAND, G_LEFT = range(2)
+assert MACHINE.guards == ("curve_command", "curve_left")
+
+# paper 003 eq. 9 (P6): a_y = -4.585e-8 R^3 + 5.6235e-5 R^2 - 0.0238 R + 4.5947, R in m
+FIT_COEFFS = (-4.585e-8, 5.6235e-5, -0.0238, 4.5947)
+
+STATE_DTYPE = np.dtype([(n, "f8") for n in (
+    "mode", "gear_command_index", "last_shift_end_s", "engaged_prev", "travelled_m", "curve_end_m", "radius_m",
+    "command_speed_mps", "lateral_accel_pred_mps2", "tolerable_accel_mps2", "safety_accel_mps2", "kj_frac", "kj_ratio",
+    "kj_max_ratio", "normal_downshift_speed_mps", "advanced_downshift_speed_mps", "curve_count")])
+
+
+def initial_state() -> np.recarray:
+    s = np.zeros(1, dtype=STATE_DTYPE).view(np.recarray)
+    s.mode[0] = NORMAL
+    s.last_shift_end_s[0] = -1e9
+    return s
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def fit_lateral_accel_mps2(radius_m):
+    """Paper 003 eq. 9 (no clamping): the lateral acceleration drivers were observed to accept at radius R."""
+    r = radius_m
+    return ((FIT_COEFFS[0] * r + FIT_COEFFS[1]) * r + FIT_COEFFS[2]) * r + FIT_COEFFS[3]
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def habitual_lateral_accel_mps2(radius_m, r_min_m, r_max_m):
+    """a_y_fit(clamp(R, r_min, r_max)) (curve_shift.md 4: valid range of the fit 20-500 m)."""
+    return fit_lateral_accel_mps2(min(max(radius_m, r_min_m), r_max_m))
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def tolerable_lateral_accel_mps2(radius_m, style_k, r_min_m, r_max_m):
+    """a_ypot = a_y_fit(R)/k (eq. 10 with a_y = k*a_ypot)."""
+    return habitual_lateral_accel_mps2(radius_m, r_min_m, r_max_m) / style_k
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def curve_speed_mps(radius_m, r_min_m, r_max_m):
+    """u3 = sqrt(a_y_fit(R)*R): the driver's curve speed (eq. 13)."""
+    return math.sqrt(max(habitual_lateral_accel_mps2(radius_m, r_min_m, r_max_m), 0.0) * radius_m)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def advance_fraction(a_y_pred, a_ypot, a_ys):
+    """frac of kj_max (Fig. 5 reconstructed, monotone piecewise linear, curve_shift.md 5.2)."""
+    if a_y_pred <= a_ypot:
+        return 0.0
+    if a_ys <= a_ypot or a_y_pred >= a_ys:
+        return 1.0
+    return (a_y_pred - a_ypot) / (a_ys - a_ypot)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def gear_speed_factor(p, gear):
+    """i_g(g)*i_0/r: engine speed per vehicle speed in gear g [rad/m]."""
+    return p.gearbox_ratios[gear - 1] * p.gearbox_final_drive_ratio / p.body_wheel_radius_m
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def max_speed_mps(p, gear):
+    """u_max(g) = w_max_dn*r/(i_g*i_0): road speed at which gear g reaches n_max_dn."""
+    return p.curve_shift_max_downshift_speed_radps / gear_speed_factor(p, gear)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def kj_max_ratio(p, lower_gear, theta):
+    """eq. 14: kj_max = (u_max(g) - u_a)/u_a for the line (g+1 -> g), >= 0."""
+    u_a = downshift_speed_mps(p, lower_gear + 1, theta)
+    if u_a <= 0.0:
+        return 0.0
+    return max((max_speed_mps(p, lower_gear) - u_a) / u_a, 0.0)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def kj_ratio(p, st, lower_gear, theta):
+    """kj for the line (lower_gear + 1 -> lower_gear): frac*kj_max, or the file's fixed value (clipped)."""
+    k_max = kj_max_ratio(p, lower_gear, theta)
+    if p.curve_shift_fixed_kj_ratio >= 0.0:
+        return min(p.curve_shift_fixed_kj_ratio, k_max)
+    return st.kj_frac * k_max
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def curve_target_gear(p, st, gear, speed_mps, theta):
+    """Skip-downshift rule of curve mode (no upshift); over-speed guard on every step down."""
+    g_t = gear
+    while g_t > 1:
+        lower = g_t - 1
+        u_adv = downshift_speed_mps(p, g_t, theta) * (1.0 + kj_ratio(p, st, lower, theta))
+        if speed_mps <= min(u_adv, max_speed_mps(p, lower)) and \
+                speed_mps * gear_speed_factor(p, lower) <= p.curve_shift_guard_speed_radps:
+            g_t = lower
+        else:
+            break
+    return g_t
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def step(st, meas, p, dt, t, machine_id, events, n_events):
+    """One TCU period. Writes st.gear_command_index; returns the event count."""
+    u = meas.vehicle_speed_mps
+    theta = min(max(meas.accelerator_frac, 0.0), 1.0)
+    gear = int(round(meas.gear_engaged_index))
+    enabled = p.curve_shift_enabled_flag > 0.5
+    valid = meas.curve_valid_flag > 0.5 and meas.curve_valid_ok > 0.5 and meas.curve_distance_ok > 0.5 \
+        and meas.curve_radius_ok > 0.5 and meas.curve_length_ok > 0.5 and meas.curve_radius_m > 1.0
+    mode = int(st.mode)
+    if mode == CURVE:
+        st.travelled_m += max(u, 0.0) * dt
+    r_min = p.curve_shift_fit_radius_min_m
+    r_max = p.curve_shift_fit_radius_max_m
+    needs_decel = p.curve_shift_command_needs_deceleration_flag < 0.5 or (
+        valid and u > curve_speed_mps(meas.curve_radius_m, r_min, r_max))
+    g_command = enabled and mode == NORMAL and valid and 0.0 <= meas.curve_distance_m <= p.curve_shift_command_distance_m \
+        and needs_decel
+    g_left = mode == CURVE and st.travelled_m >= st.curve_end_m
+    guards = np.zeros(2, dtype=np.bool_)
+    guards[G_COMMAND] = g_command
+    guards[G_LEFT] = g_left
+    new_mode, reason = next_mode(TABLE, mode, guards)
+    if new_mode != mode:
+        n_events = log_event(events, n_events, t, machine_id, mode, new_mode, reason)
+        if new_mode == CURVE:
+            r = meas.curve_radius_m
+            st.travelled_m = 0.0
+            st.curve_end_m = max(meas.curve_distance_m, 0.0) + meas.curve_length_m
+            st.radius_m = r
+            st.command_speed_mps = u
+            st.lateral_accel_pred_mps2 = u * u / r
+            st.tolerable_accel_mps2 = tolerable_lateral_accel_mps2(r, p.curve_shift_driver_style_k, r_min, r_max)
+            st.safety_accel_mps2 = interp(p.curve_shift_safety_accel_x, p.curve_shift_safety_accel_y,
+                                          p.curve_shift_safety_accel_n, p.curve_shift_safety_accel_extrap,
+                                          p.curve_shift_safety_accel_interp, u)
+            st.kj_frac = advance_fraction(st.lateral_accel_pred_mps2, st.tolerable_accel_mps2, st.safety_accel_mps2)
+            st.curve_count += 1
+        else:
+            st.kj_frac = 0.0
+        st.mode = new_mode
+        mode = new_mode
+
+    # values worth plotting: the line below the engaged gear
+    if gear >= 2:
+        st.normal_downshift_speed_mps = downshift_speed_mps(p, gear, theta)
+        st.kj_max_ratio = kj_max_ratio(p, gear - 1, theta)
+        st.kj_ratio = kj_ratio(p, st, gear - 1, theta) if mode == CURVE else 0.0
+        st.advanced_downshift_speed_mps = min(st.normal_downshift_speed_mps * (1.0 + st.kj_ratio),
+                                              max_speed_mps(p, gear - 1))
+    if int(st.engaged_prev) == 0 and gear > 0:
+        st.last_shift_end_s = t
+    st.engaged_prev = gear
+    if gear <= 0:  # shifting: the AMT is busy
+        return n_events
+    if t - st.last_shift_end_s < p.curve_shift_dwell_time_s:
+        st.gear_command_index = gear
+        return n_events
+    if mode == CURVE:
+        target = curve_target_gear(p, st, gear, u, theta)
+    else:
+        target = normal_target_gear(p, gear, u, theta)
+        if target < gear and u * gear_speed_factor(p, target) > p.curve_shift_guard_speed_radps:
+            target = gear  # over-speed guard holds in the normal schedule too
+    st.gear_command_index = target
+    return n_events

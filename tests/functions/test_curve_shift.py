@@ -1,0 +1,131 @@
+"""Curve-aware shift strategy and normal schedule (functions/curve_shift.py, shift_schedule.py; issue #11).
+
+References: the paper's eq. 9 values as computed in curve_shift.md 4 and criterion 9; the spec's schedule
+anchors (P10 point a/b: 3->2 at theta 0.6 = 47 km/h, u_max(2nd) = 52.8 km/h, kj_max = 0.123; P13 coasting
+4->3 at ~24 km/h); eq. 14/15 by hand; criterion 11 (24*(1 + 0.125) = 27 km/h). Every FSM row fires in a run.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import vehicle_assist as va
+from vehicle_assist.functions import curve_shift as cs
+from vehicle_assist.functions import shift_schedule as ss
+from vehicle_assist.scenarios.runner import pack_records
+
+KPH = 1 / 3.6
+
+
+@pytest.fixture(scope="module")
+def p():
+    sc = va.load_scenario("curve_s80")
+    return pack_records([sc.vehicle.flat()])[0]
+
+
+def _state(frac=0.0):
+    st = cs.initial_state()[0]
+    st.kj_frac = frac
+    return st
+
+
+def test_eq9_values_criterion_9():
+    for radius, ref in ((50, 3.5396), (100, 2.7312), (200, 1.7173), (500, 1.0222)):
+        assert cs.fit_lateral_accel_mps2(radius) == pytest.approx(ref, abs=1e-3)
+    # clamped to the valid range 20-500 m (curve_shift.md 4): beyond 500 m the value at 500 m
+    assert cs.habitual_lateral_accel_mps2(900.0, 20.0, 500.0) == pytest.approx(1.0222, abs=1e-3)
+    assert cs.habitual_lateral_accel_mps2(5.0, 20.0, 500.0) == pytest.approx(cs.fit_lateral_accel_mps2(20.0))
+    # a_ypot = a_y_fit/k: 3.27/0.75 = 4.36 at R = 65 m (curve_shift.md 7), u3 = 52.5 km/h
+    assert cs.tolerable_lateral_accel_mps2(65.0, 0.75, 20.0, 500.0) == pytest.approx(4.36, abs=0.01)
+    assert cs.curve_speed_mps(65.0, 20.0, 500.0) / KPH == pytest.approx(52.5, abs=0.2)
+
+
+def test_advance_fraction_shape():
+    assert cs.advance_fraction(3.0, 4.36, 5.5) == 0.0
+    assert cs.advance_fraction(7.6, 4.36, 5.5) == 1.0
+    assert cs.advance_fraction(5.02, 4.36, 5.5) == pytest.approx((5.02 - 4.36) / (5.5 - 4.36))
+    assert cs.advance_fraction(5.0, 4.36, 4.0) == 1.0  # a_ys <= a_ypot: frac = 1 above a_ypot (5.2)
+
+
+def test_schedule_anchors(p):
+    assert ss.downshift_speed_mps(p, 3, 0.6) / KPH == pytest.approx(47.0, abs=0.05)  # P10 point a
+    assert cs.max_speed_mps(p, 2) / KPH == pytest.approx(52.8, abs=0.1)  # P10 point b (i_0 = 6, 4000 rpm)
+    assert cs.kj_max_ratio(p, 2, 0.6) == pytest.approx(52.8 / 47.0 - 1, abs=2e-3)  # eq. 14: 0.123
+    assert ss.downshift_speed_mps(p, 4, 0.0) / KPH == pytest.approx(23.8, abs=0.05)  # P13 "about 24"
+    assert ss.downshift_speed_mps(p, 3, 0.0) / KPH == pytest.approx(14.7, abs=0.05)  # P13 "about 15"
+    # interpolation between throttle breakpoints and clamping outside
+    assert ss.upshift_speed_mps(p, 4, 0.3) == pytest.approx(0.5 * (17.64 + 26.47))
+    assert ss.upshift_speed_mps(p, 5, 0.3) > 100  # no upshift from the top gear
+    assert ss.downshift_speed_mps(p, 1, 0.3) < 0  # no downshift from first
+    assert ss.normal_target_gear(p, 4, 12.37, 0.0) == 5 and ss.normal_target_gear(p, 4, 6.6, 0.0) == 3
+    assert ss.normal_target_gear(p, 4, 10.0, 0.0) == 4
+
+
+def test_advance_eq15_and_criterion_11(p):
+    """u' = u_a*(1 + kj): with kj = 0.125 the coasting 4->3 moves from 23.8 to 26.8 +/- 1 km/h."""
+    st = _state()
+    u_a = ss.downshift_speed_mps(p, 4, 0.0)
+    p_fixed = p.copy()
+    p_fixed.curve_shift_fixed_kj_ratio = 0.125
+    assert cs.kj_ratio(p_fixed, st, 3, 0.0) == pytest.approx(0.125)
+    u_adv = u_a * (1 + 0.125)
+    assert u_adv / KPH == pytest.approx(26.8, abs=1.0)
+    assert cs.curve_target_gear(p_fixed, st, 4, u_adv + 0.01, 0.0) == 4
+    assert cs.curve_target_gear(p_fixed, st, 4, u_adv - 0.01, 0.0) == 3
+    # frac*kj_max, never above kj_max (criterion 5)
+    st = _state(0.5)
+    assert cs.kj_ratio(p, st, 3, 0.0) == pytest.approx(0.5 * cs.kj_max_ratio(p, 3, 0.0))
+    p_big = p.copy()
+    p_big.curve_shift_fixed_kj_ratio = 50.0
+    assert cs.kj_ratio(p_big, st, 3, 0.0) == pytest.approx(cs.kj_max_ratio(p, 3, 0.0))
+
+
+def test_skip_rule_and_overspeed_guard(p):
+    """S70 by hand (curve_shift.md 7): frac = 1 at 70 km/h in 5th, theta 0.2 -> 5 -> 3 in one step; at 80 km/h
+    3rd would turn 4170 rpm > n_guard = 3800 rpm, so only 5 -> 4 (the guard)."""
+    st = _state(1.0)
+    assert cs.curve_target_gear(p, st, 5, 70 * KPH, 0.2) == 3
+    assert cs.curve_target_gear(p, st, 5, 80 * KPH, 0.25) == 4
+    rpm_3rd_80 = 80 * KPH * 1.51 * 6.0 / 0.46 * 30 / math.pi
+    assert rpm_3rd_80 > 3800
+    # the guard speed of 3rd: 72.7 km/h (prototype's 4->3 in S80)
+    assert cs.curve_target_gear(p, st, 4, 72.8 * KPH, 0.0) == 4
+    assert cs.curve_target_gear(p, st, 4, 72.6 * KPH, 0.0) == 3
+    # kj = 0: the curve rule is the normal downshift line (but may skip); no upshift whatever the speed
+    st0 = _state(0.0)
+    assert cs.curve_target_gear(p, st0, 3, 30.0, 0.0) == 3
+    assert cs.curve_target_gear(p, st0, 4, 6.0, 0.0) == 3
+
+
+def _events(name, *sets):
+    r = va.simulate(va.load_scenario(name, list(sets)))
+    return r, {(e.machine, e.reason) for e in r.events}
+
+
+def test_every_fsm_row_fires():
+    r, ev = _events("curve_s80")
+    assert ("curve_shift", "curve_command") in ev and ("curve_shift", "curve_left") in ev
+    for guard in ("curve_in_sight", "curve_entered", "curve_left", "cruise_speed_reached"):
+        assert ("curve_driver", guard) in ev, guard
+    assert ("gearbox", "gear_change_started") in ev and ("gearbox", "gear_engaged") in ev
+    # EXIT -> APPROACH: a second curve in sight before the cruise speed is back (the proving-ground loop)
+    r2 = va.simulate(va.load_scenario("curve_pg", ["run.duration_s=80"]))
+    rows = [(e.from_mode, e.to_mode) for e in r2.events if e.machine == "curve_driver"]
+    assert ("EXIT", "APPROACH") in rows or ("STRAIGHT", "APPROACH") in rows[1:]
+
+
+def test_strategy_off_never_commands():
+    r, ev = _events("curve_b80")
+    assert ("curve_shift", "curve_command") not in ev
+    assert np.max(r.trace["curve_mode_flag"]) == 0.0
+
+
+def test_s48_no_command_without_deceleration_need():
+    """P9 rule 1: the preview issues no command for a curve that needs no deceleration (u <= u3); S48 injects
+    it (command_needs_deceleration_flag = 0); with the default flag no curve mode."""
+    _, ev = _events("curve_s48", "vehicle.curve_shift.command_needs_deceleration_flag=1")
+    assert ("curve_shift", "curve_command") not in ev
+    _, ev = _events("curve_s48")
+    assert ("curve_shift", "curve_command") in ev

@@ -1,0 +1,80 @@
+"""Paper 003 reproduction (curve-aware AMT shifting; curve_shift.md 7 and 8, issue #11).
+
+Every shipped curve scenario's checks hold (each cites its clause); the pairwise claims of the issue are checked
+here across strategy-on / strategy-off twins: gear at curve entry lower or equal with the strategy and strictly
+lower at 80 km/h (criterion 6), the lift-off upshift only without the strategy (criterion 2), the proving-ground
+4->3 earlier than the normal schedule's (P13: ~27 instead of ~24 km/h). Negative control: the normal schedule run
+against the strategy's criterion 1 must fail it.
+"""
+from __future__ import annotations
+
+import pytest
+
+import vehicle_assist as va
+from vehicle_assist.procedures.reproduce import REPRODUCTIONS
+
+CASES = (80, 70, 65, 48)
+
+
+@pytest.fixture(scope="module")
+def results():
+    names = [f"curve_{k}{v}" for v in CASES for k in ("s", "b")] + [
+        "curve_pg", "curve_pg_baseline", "curve_s80_map_missing", "curve_s80_map_dropout", "curve_s80_map_late",
+        "curve_s80_map_radius_wrong"]
+    return {n: va.simulate(va.load_scenario(n)) for n in names}
+
+
+def test_every_check_holds(results):
+    bad = [(n, c.metric, c.value, c.bound) for n, r in results.items() for c in r.checks if not c.ok]
+    assert not bad
+
+
+def test_entry_gear_lower_or_equal_and_strictly_lower_at_80(results):
+    for v in CASES:
+        s = results[f"curve_s{v}"].metrics["gear_at_curve_entry_index"]
+        b = results[f"curve_b{v}"].metrics["gear_at_curve_entry_index"]
+        assert s <= b, v  # criterion 6
+    assert results["curve_s80"].metrics["gear_at_curve_entry_index"] < results["curve_b80"].metrics["gear_at_curve_entry_index"]
+
+
+def test_lift_off_upshift_only_without_strategy(results):
+    for v in (65, 48):
+        assert results[f"curve_b{v}"].metrics["upshifts_after_lift_off_count"] >= 1  # criterion 2
+        assert results[f"curve_s{v}"].metrics["upshifts_signal_to_exit_count"] == 0  # criterion 1
+    assert results["curve_pg_baseline"].metrics["upshifts_after_lift_off_count"] >= 1  # P13 4->5
+    assert results["curve_pg"].metrics["upshifts_signal_to_exit_count"] == 0
+
+
+def test_kj_classes_p12(results):
+    m = {v: results[f"curve_s{v}"].metrics for v in CASES}
+    assert m[80]["kj_frac_max"] == 1.0 and m[80]["kj_ratio_max"] > 0  # kj = kj_max
+    assert 0.0 < m[65]["kj_frac_max"] < 1.0  # between
+    assert m[48]["kj_ratio_max"] == 0.0  # zero
+    assert results["curve_s70"].metrics["gear_drop_max_count"] >= 2  # skip shift, criterion 7
+
+
+def test_proving_ground_downshift_earlier(results):
+    s = results["curve_pg"].metrics["downshift_4_3_speed_mps"] * 3.6
+    b = results["curve_pg_baseline"].metrics["downshift_4_3_speed_mps"] * 3.6
+    assert s > b
+    assert s == pytest.approx(27.0, abs=1.0) and b == pytest.approx(24.0, abs=1.0)  # P13
+
+
+def test_downshifts_earlier_with_strategy(results):
+    """The strategy's first downshift comes at a higher speed than the normal schedule's (P1 'late downshift')."""
+    for v in (80, 70, 65):
+        s = results[f"curve_s{v}"].metrics["downshift_4_3_speed_mps"]
+        b = results[f"curve_b{v}"].metrics["downshift_4_3_speed_mps"]
+        assert s > b, v
+
+
+def test_negative_control_normal_schedule_fails_criterion_1():
+    sc = va.load_scenario("curve_s48", ["vehicle.curve_shift.enabled_flag=0"])
+    r = va.simulate(sc)
+    failed = [c.metric for c in r.checks if not c.ok]
+    assert "upshifts_signal_to_exit_count" in failed
+
+
+def test_reproduction_entry():
+    rep = [r for r in REPRODUCTIONS if r.paper == "003"]
+    assert len(rep) == 1 and "curve_s80" in rep[0].scenarios and "curve_pg" in rep[0].scenarios
