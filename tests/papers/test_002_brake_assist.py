@@ -75,3 +75,13 @@ def test_without_abs_the_wheels_lock() -> None:
             'events=[{at_s=0, action="actuator_fault", actuator="esp_valves", fault="unpowered"}]']
     m = va.simulate(va.load_scenario("hba_normal_firm_100kph", sets)).metrics
     assert m["wheel_stopped_moving_flag"] == 1.0 and m["wheel_lock_time_max_s"] > 1.0
+
+
+def test_paper_002_is_registered_in_reproduce() -> None:
+    """`vehicle-assist reproduce` runs every hba_* scenario and the three paper-002 studies."""
+    from vehicle_assist.procedures.reproduce import EXTRAS
+    from tests.support import reproduction
+
+    rep = reproduction("002")
+    assert set(rep.scenarios) == set(SCENARIOS)
+    assert all(e in EXTRAS for e in rep.extras) and set(rep.extras) == {"hba_benefit", "r139", "hba_calibration"}
