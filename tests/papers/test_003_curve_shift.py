@@ -78,3 +78,15 @@ def test_negative_control_normal_schedule_fails_criterion_1():
 def test_reproduction_entry():
     rep = [r for r in REPRODUCTIONS if r.paper == "003"]
     assert len(rep) == 1 and "curve_s80" in rep[0].scenarios and "curve_pg" in rep[0].scenarios
+
+
+def test_figures_are_written(tmp_path, results):
+    """The paper-style figure, the overlay with the normal schedule and the road with shift points render."""
+    from vehicle_assist.procedures import curve_shift_study as study
+    from vehicle_assist.report.plots import FIGURES
+
+    p1 = FIGURES["curve_shift"](results["curve_s80"].trace, tmp_path / "a.png", "s80")
+    p2 = study._overlay_png(results["curve_s80"].trace, results["curve_b80"].trace, tmp_path / "b.png", "s80 vs b80")
+    p3 = study._road_png(results["curve_pg"].scenario, {"on": results["curve_pg"].trace}, tmp_path / "c.png", "pg")
+    for p in (p1, p2, p3):
+        assert p.stat().st_size > 10_000
