@@ -89,3 +89,16 @@ def test_dump_and_rampout() -> None:
     for _ in range(5000):
         p = U.wheel_pressure_step(U.T, p, 60e5, 1e-4, 0.015, 0.0, 200e5, 0.3, 0.03, 1e5, 200e5, 300e5)
     assert 60e5 <= p < 61e5
+
+
+def test_logged_valve_states_follow_the_table_per_circuit() -> None:
+    """Criterion 4: in the paper's run every sample's switching and high-pressure valve states of a circuit are the
+    table's (a circuit valve is closed/open if either wheel's mode asks it; X-split: FL+RR, FR+RL)."""
+    tr = va.simulate(va.load_scenario("hba_paper_110kph_dry")).trace
+    modes = {w: tr[f"wheel_mode_{w}_index"].astype(int) for w in ("fl", "fr", "rl", "rr")}
+    for c, (a, b) in (("1", ("fl", "rr")), ("2", ("fr", "rl"))):
+        usv = np.maximum(U.VALVE_TABLE[modes[a], 0], U.VALVE_TABLE[modes[b], 0])
+        hsv = np.maximum(U.VALVE_TABLE[modes[a], 1], U.VALVE_TABLE[modes[b], 1])
+        np.testing.assert_array_equal(tr[f"usv_closed_c{c}_flag"], usv)
+        np.testing.assert_array_equal(tr[f"hsv_open_c{c}_flag"], hsv)
+    assert {"B", "HI", "D", "BP", "T", "N"} <= {U.MODES[m] for m in np.concatenate(list(modes.values()))}

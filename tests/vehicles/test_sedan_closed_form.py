@@ -21,19 +21,25 @@ def run(*sets):
     return va.simulate(va.load_scenario(BASE, list(sets)))
 
 
-@pytest.mark.parametrize("scale", [1.0, 0.5])
-def test_locked_wheels_decelerate_at_mu_g(scale: float) -> None:
+MU_PEAK_DRY = 1.1700  # Burckhardt dry peak (brake_assist.md 4.4), the Dugoff model's mu at the same surface
+
+
+@pytest.mark.parametrize("scale, model, mu_locked", [(1.0, "burckhardt", MU_LOCKED_DRY), (0.5, "burckhardt", MU_LOCKED_DRY),
+                                                     (1.0, "dugoff", MU_PEAK_DRY)])
+def test_locked_wheels_decelerate_at_mu_g(scale: float, model: str, mu_locked: float) -> None:
     """ABS failed, full pedal (210 bar): every wheel locks; then m*a = -sum mu(1)*F_z = -mu(1)*m*g exactly
-    (drag and rolling resistance off), whatever the load transfer. Tolerance 0.5 %: the loads lag one 0.5 ms
+    (drag and rolling resistance off), whatever the load transfer; with the Dugoff model the locked force is
+    mu*F_z with mu the surface's peak (tire_blowout.md 2.3, s = 1 limit). Tolerance 0.5 %: the loads lag one 0.5 ms
     step behind the acceleration, nothing else. Stopping distance from the lock instant: v_lock^2/(2*mu*g)
     within 0.5 m (one record period of travel at the lock speed plus the stop regularisation at 0.05 m/s)."""
     r = run(*NO_RESIST, ABS_FAILED, f"road.friction_mu={scale}",
-            'driver.brake_pedal={time_s=[0.0, 0.1, 0.11], frac=[0.0, 0.0, 1.0]}', "run.duration_s=12")
+            'driver.brake_pedal={time_s=[0.0, 0.1, 0.11], frac=[0.0, 0.0, 1.0]}', "run.duration_s=12",
+            f'vehicle.tires.model="{model}"')
     tr = r.trace
     locked = np.all([tr[f"wheel_slip_{w}_frac"] >= 1.0 for w in ("fl", "fr", "rl", "rr")], axis=0) & (tr["speed_mps"] > 1)
     assert locked.sum() > 100
     a = tr["accel_mps2"][locked]
-    expected = -MU_LOCKED_DRY * scale * 9.81
+    expected = -mu_locked * scale * 9.81
     assert np.all(np.abs(a - expected) <= 0.005 * abs(expected))
     k = np.flatnonzero(locked)[0]
     v_lock = tr["speed_mps"][k]

@@ -19,6 +19,10 @@ P12). Each metric works on one run or on a batch (rows), computed row by row; Na
 * ``abs_intervened_flag``: an ABS hold or dump on some wheel.
 * ``wheel_lock_time_max_s``: longest spell with a wheel slip above 0.5 while v > 15 km/h (criterion 5);
   ``wheel_stopped_moving_flag``: a wheel at omega = 0 while v > 5 km/h (criterion 5).
+* ``hba_exit_delay_s``: first ACTIVE -> TERMINATING sample minus the first ACTIVE sample at which a sensed exit
+  condition of paper P4 holds (reference speed <= 5 km/h, sensed p_mc <= 6 bar, pedal below the 5 N switch
+  force, p_mc < 0.4*peak and > 10 bar below it) (criterion 6: within one controller period); negative when a
+  fault (sensor, ABS, pump) ended the assist before any of these;
 * ``hba_exit_flag``: ACTIVE -> TERMINATING happened; ``rampout_settle_margin_s``: criterion 7's bound
   (p_w0 - p_src)/G_exit + 0.1 s (p_w0 the wheel pressure at the exit, p_src the driver's pressure where the
   ramp ends - the driver may still be releasing at the exit -, G_exit = 200 bar/s of
@@ -112,6 +116,19 @@ def _deficit(t, force, *rest):
         if mask.any():
             worst = max(worst, float(np.max((ps - pw)[mask])))
     return worst
+
+
+def _exit_delay(t, mode, vref, pmeas, force):
+    on = np.flatnonzero(mode == ACTIVE)
+    ex = np.flatnonzero((mode[1:] == TERMINATING) & (mode[:-1] == ACTIVE))
+    if not on.size or not ex.size:
+        return math.nan
+    k_on, k_ex = on[0], ex[0] + 1
+    peak = np.maximum.accumulate(np.where(np.arange(len(t)) >= k_on, pmeas, 0.0))
+    cond = (vref <= 5.0 / 3.6) | (pmeas <= 6e5) | (force <= 5.0) | ((pmeas < 0.4 * peak) & (peak - pmeas > 10e5))
+    cond &= np.arange(len(t)) > k_on
+    first = np.flatnonzero(cond)
+    return t[k_ex] - t[first[0]] if first.size else math.nan
 
 
 def _activation_count(t, mode):
@@ -260,6 +277,9 @@ _DEFS = [
      "longest spell with a wheel slip > 0.5 above 15 km/h"),
     ("wheel_stopped_moving_flag", _stopped_moving, ("speed_mps",) + tuple(f"wheel_speed_{w}_radps" for w in W),
      "a wheel stood still while the car moved faster than 5 km/h"),
+    ("hba_exit_delay_s", _exit_delay,
+     ("hba_mode_index", "reference_speed_mps", "master_pressure_meas_pa", "pedal_force_n"),
+     "ACTIVE -> TERMINATING after the first sensed exit condition (criterion 6)"),
     ("hba_exit_flag", lambda t, m: float(np.any((m[1:] == TERMINATING) & (m[:-1] == ACTIVE))), ("hba_mode_index",),
      "ACTIVE -> TERMINATING happened"),
     ("rampout_settle_margin_s", _settle_margin,
