@@ -21,7 +21,7 @@ demo: $(STAMP)
 # compile the kernels once before the two test workers start (else each compiles them, and both write
 # the same cache files at once)
 warm: $(STAMP)
-	$(BIN)/python -c "import vehicle_assist as va; [va.simulate(va.load_scenario(n, ['run.duration_s=0.1'])) for n in ('hsa_truck_full_14deg_80bar', 'hsa_ev_5deg_paper', 'hba_paper_110kph_dry', 'curve_s80')]"
+	$(BIN)/python -c "import vehicle_assist as va; [va.simulate(va.load_scenario(n, ['run.duration_s=0.1'])) for n in ('hsa_truck_full_14deg_8p0bar', 'hsa_ev_5deg_paper', 'hba_paper_110kph_dry', 'curve_s80')]"
 
 test: warm
 	$(BIN)/python -m pytest -q -n 2

@@ -23,7 +23,7 @@ import time
 from pathlib import Path
 
 SCENARIO = "truck_11deg_late_release"
-HSA_SCENARIO = "hsa_truck_full_14deg_80bar"  # paper 000 test point S1, 15 s, hill-start assist active
+HSA_SCENARIO = "hsa_truck_full_14deg_8p0bar"  # paper 000 test point S1, 15 s, hill-start assist active
 ROOT = Path(__file__).resolve().parent
 CLI = [sys.executable, "-m", "vehicle_assist.cli"]
 

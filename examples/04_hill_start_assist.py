@@ -12,12 +12,12 @@ from vehicle_assist.vehicles.truck_amt import REFUSAL_REASONS
 
 EARLY = 'driver.hand_valve={time_s=[0.0, 1.0], released=[0, 1]}'
 CASES = {
-    "S1 30 t 14 deg C, early valve": ("hsa_truck_full_14deg_80bar", [EARLY]),
+    "S1 30 t 14 deg C, early valve": ("hsa_truck_full_14deg_8p0bar", [EARLY]),
     "13 t 11 deg 1st, early valve": ("truck_11deg_early_release", []),  # pedal only from 2 s
-    "28 t 13 deg 1st, pedal 0.4": ("hsa_truck_full_14deg_80bar", ["vehicle.body.mass_kg=28000", "road.slope_deg=13",
+    "28 t 13 deg 1st, pedal 0.4": ("hsa_truck_full_14deg_8p0bar", ["vehicle.body.mass_kg=28000", "road.slope_deg=13",
                                                                   'driver.gear_lever.gear=["1"]',
                                                                   "driver.accelerator.frac=[0,0,0.4]"]),
-    "30 t 14 deg 1st (too steep)": ("hsa_truck_full_14deg_80bar", ['driver.gear_lever.gear=["1"]']),
+    "30 t 14 deg 1st (too steep)": ("hsa_truck_full_14deg_8p0bar", ['driver.gear_lever.gear=["1"]']),
 }
 print(f"{'case':32s} {'assist':>6s} {'rollback [m]':>13s} {'stall':>6s}  refusal")
 for label, (name, sets) in CASES.items():

@@ -21,8 +21,8 @@ from vehicle_assist.functions.hill_start_amt import hold_torque_estimate_nm
 from vehicle_assist.scenarios.runner import pack_records, simulate_batch
 from vehicle_assist.vehicles.truck_amt import REFUSAL_REASONS
 
-S1 = "hsa_truck_full_14deg_80bar"
-S2 = "hsa_truck_empty_11deg_80bar"
+S1 = "hsa_truck_full_14deg_8p0bar"
+S2 = "hsa_truck_empty_11deg_8p0bar"
 RPM = math.pi / 30.0
 G = 9.81
 

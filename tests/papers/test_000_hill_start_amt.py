@@ -49,8 +49,8 @@ def test_engine_speed_peaks_of_the_paper_test_points(results):
     """Calibration target, not evidence (hill_start_amt.md 9.8 says so): P13's peaks 1800 rpm full (crawler,
     pedal 0.70) and about 1100 rpm empty (1st, 0.27) are the governed speeds at the pedals chosen to give them;
     the test only guards the calibration (+/- 150 rpm)."""
-    full = results["hsa_truck_full_14deg_80bar"].metrics["engine_speed_peak_radps"] / RPM
-    empty = results["hsa_truck_empty_11deg_80bar"].metrics["engine_speed_peak_radps"] / RPM
+    full = results["hsa_truck_full_14deg_8p0bar"].metrics["engine_speed_peak_radps"] / RPM
+    empty = results["hsa_truck_empty_11deg_8p0bar"].metrics["engine_speed_peak_radps"] / RPM
     assert abs(full - 1800.0) <= 150.0
     assert abs(empty - 1100.0) <= 150.0
 
@@ -59,7 +59,7 @@ def test_assist_removes_the_rollback_of_an_early_release():
     """P6 / 9.10: the same driver (hand valve opened with the service-brake release) rolls back without the
     assist (negative control) and does not with it: the 3/2 valve keeps the park brake applied."""
     sets = ['driver.hand_valve={time_s=[0.0, 1.0], released=[0, 1]}']
-    with_assist = va.simulate(va.load_scenario("hsa_truck_full_14deg_80bar", sets)).metrics
+    with_assist = va.simulate(va.load_scenario("hsa_truck_full_14deg_8p0bar", sets)).metrics
     without = results_without = va.simulate(va.load_scenario("hsa_truck_full_14deg_no_assist_early_release")).metrics
     assert without["rollback_distance_m"] > 0.05
     assert results_without["park_release_phase_index"] == 1.0
@@ -96,7 +96,7 @@ def test_normal_start_never_energises_the_valve(results):
 def test_park_brake_held_until_the_release_command(results):
     """9.4: while the valve is energised the chambers stay below p_start even though the driver released the
     hand valve at 2 s (the assist holds the park brake)."""
-    for name in ("hsa_truck_full_14deg_80bar", "hsa_truck_empty_11deg_80bar"):
+    for name in ("hsa_truck_full_14deg_8p0bar", "hsa_truck_empty_11deg_8p0bar"):
         tr = results[name].trace
         held = tr["valve_32_energized_flag"] > 0.5
         assert held.any() and (tr["hand_valve_released_flag"][held] > 0.5).any()
@@ -106,7 +106,7 @@ def test_park_brake_held_until_the_release_command(results):
 def test_lockup_rule(results):
     """9.9: once the assist enters LOCKUP (slip <= 100 rpm, moving) the clutch command reaches 1 within
     (1 - x_c)/v_C + 0.05 s (v_C = 1 /s)."""
-    for name in ("hsa_truck_full_14deg_80bar", "hsa_truck_empty_11deg_80bar"):
+    for name in ("hsa_truck_full_14deg_8p0bar", "hsa_truck_empty_11deg_8p0bar"):
         r = results[name]
         lock = next(e for e in r.events if e.machine == "hill_start_amt" and e.to_mode == "LOCKUP")
         done = next(e for e in r.events if e.machine == "hill_start_amt" and e.to_mode == "DONE")
@@ -134,7 +134,7 @@ def test_assist_refuses_a_grade_beyond_the_engine():
     """30 t on 14 deg in 1st gear needs ~1080 N*m at the clutch, more than 90 % of the engine's 1013 N*m
     (hill_start_amt.md 7.1: 'near the engine limit, which is why the crawler gear is used'): the assist
     stands down with that reason and keeps the park brake applied: no rollback, no stall, v == 0 exactly."""
-    r = va.simulate(va.load_scenario("hsa_truck_full_14deg_80bar", ['driver.gear_lever={time_s=[0.0], gear=["1"]}']))
+    r = va.simulate(va.load_scenario("hsa_truck_full_14deg_8p0bar", ['driver.gear_lever={time_s=[0.0], gear=["1"]}']))
     reasons = [e.reason for e in r.events if e.machine == "hill_start_amt" and e.to_mode == "STOOD_DOWN"]
     assert reasons == ["grade_beyond_engine_torque"]
     assert (r.trace["speed_mps"] == 0.0).all()

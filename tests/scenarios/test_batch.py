@@ -5,7 +5,7 @@ import pytest
 import vehicle_assist as va
 from vehicle_assist.scenarios.runner import simulate_batch
 
-TRUCK = ["hsa_truck_full_14deg_80bar", "hsa_truck_empty_11deg_65bar", "hsa_truck_full_14deg_no_assist_early_release",
+TRUCK = ["hsa_truck_full_14deg_8p0bar", "hsa_truck_empty_11deg_6p5bar", "hsa_truck_full_14deg_no_assist_early_release",
          "truck_11deg_late_release"]
 
 
@@ -39,7 +39,7 @@ def test_batch_of_runs_with_different_lengths():
 def test_batch_checks_flags():
     """checks_ok per variant: S1 passes; the same start in 1st gear does not launch (the assist refuses a grade
     beyond the engine), so its launch check fails."""
-    scs = [va.load_scenario("hsa_truck_full_14deg_80bar"),
-           va.load_scenario("hsa_truck_full_14deg_80bar", ['driver.gear_lever={time_s=[0.0], gear=["1"]}'])]
+    scs = [va.load_scenario("hsa_truck_full_14deg_8p0bar"),
+           va.load_scenario("hsa_truck_full_14deg_8p0bar", ['driver.gear_lever={time_s=[0.0], gear=["1"]}'])]
     batch = simulate_batch(scs)
     assert batch.checks_ok == [True, False]

@@ -13,7 +13,7 @@ from vehicle_assist.verification.envelope import load_envelope, pedal_table, shi
 GOOD = """
 name = "t"
 function = "hill_start_amt"
-base = "hsa_truck_full_14deg_80bar"
+base = "hsa_truck_full_14deg_8p0bar"
 baseline = ["vehicle.hill_start_assist.enabled_flag=0"]
 baseline_source = "issue #7"
 [ranges.mass]
@@ -90,7 +90,7 @@ def test_ev_run_lasts_past_the_slowest_pedal():
     (("min = 13000", "min = 50000"), "ranges.mass"),
     (('path = "vehicle.body.mass_kg"', 'path = "vehicle.body.masss_kg"'), "mass"),
     (('source = "issue #7 item 1"\n', ''), "ranges.mass.source"),
-    (('base = "hsa_truck_full_14deg_80bar"', 'base = "nope"'), "base"),
+    (('base = "hsa_truck_full_14deg_8p0bar"', 'base = "nope"'), "base"),
     (("[ranges.mass]", "[ranges.mass]\nstep = 3"), "ranges.mass"),
 ])
 def test_bad_envelope_one_line_error_names_field(tmp_path, edit, field):

@@ -20,7 +20,7 @@ from vehicle_assist.verification.requirements import make_requirement
 ENVELOPE = """
 name = "planted"
 function = "hill_start_amt"
-base = "hsa_truck_full_14deg_80bar"
+base = "hsa_truck_full_14deg_8p0bar"
 sets = ["run.duration_s=0.3", "requirements=[]"]
 baseline = ["vehicle.hill_start_assist.enabled_flag=0"]
 baseline_source = "issue #7"

@@ -97,16 +97,16 @@ def test_malformed_formula_one_line_error(formula, needle):
     import vehicle_assist as va
 
     with pytest.raises(InputError) as exc:
-        va.load_scenario("hsa_truck_full_14deg_80bar", [f"requirements=[{{id='x', formula='{formula}'}}]"])
+        va.load_scenario("hsa_truck_full_14deg_8p0bar", [f"requirements=[{{id='x', formula='{formula}'}}]"])
     msg = str(exc.value)
-    assert "\n" not in msg and "hsa_truck_full_14deg_80bar.toml" in msg and "requirements.0.formula" in msg and needle in msg
+    assert "\n" not in msg and "hsa_truck_full_14deg_8p0bar.toml" in msg and "requirements.0.formula" in msg and needle in msg
 
 
 def test_unknown_shipped_requirement():
     import vehicle_assist as va
 
     with pytest.raises(InputError, match=r"requirements.0 = 'hill_start_amt.no_rolback'.*did you mean"):
-        va.load_scenario("hsa_truck_full_14deg_80bar", ['requirements=["hill_start_amt.no_rolback"]'])
+        va.load_scenario("hsa_truck_full_14deg_8p0bar", ['requirements=["hill_start_amt.no_rolback"]'])
 
 
 def test_scenario_run_reports_requirement_robustness(tmp_path):
@@ -118,12 +118,12 @@ def test_scenario_run_reports_requirement_robustness(tmp_path):
     from vehicle_assist.cli import app
 
     sets = ["run.duration_s=4", 'requirements=["hill_start_amt.no_stall", {id="slow", formula="always(speed_mps < 0.2)", why="planted"}]']
-    res = va.simulate(va.load_scenario("hsa_truck_full_14deg_80bar", sets))
+    res = va.simulate(va.load_scenario("hsa_truck_full_14deg_8p0bar", sets))
     by_id = {r.id: r for r in res.requirements}
     assert by_id["hill_start_amt.no_stall"].robustness == pytest.approx(float(np.min(res.trace["engine_speed_radps"])) - 41.888)
     assert by_id["slow"].robustness == pytest.approx(0.2 - float(np.max(res.trace["speed_mps"])))
     out = tmp_path / "run"
-    cli = CliRunner().invoke(app, ["run", "hsa_truck_full_14deg_80bar", "--out", str(out), "--no-plot"]
+    cli = CliRunner().invoke(app, ["run", "hsa_truck_full_14deg_8p0bar", "--out", str(out), "--no-plot"]
                              + [a for s in sets for a in ("--set", s)])
     doc = json.loads((out / "metrics.json").read_text())
     ids = [r["id"] for r in doc["requirements"]]

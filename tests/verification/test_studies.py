@@ -15,7 +15,7 @@ from vehicle_assist.verification import study as st
 ENVELOPE = """
 name = "planted"
 function = "hill_start_amt"
-base = "hsa_truck_full_14deg_80bar"
+base = "hsa_truck_full_14deg_8p0bar"
 sets = ["run.duration_s=0.3", "requirements=[]"]
 baseline = ["vehicle.hill_start_assist.enabled_flag=0"]
 baseline_source = "issue #7"

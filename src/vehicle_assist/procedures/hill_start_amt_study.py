@@ -24,8 +24,8 @@ import numpy as np
 PAPER = "000"
 TABLE_1 = {6.5: 2.5, 7.0: 2.3, 7.5: 2.0, 8.0: 1.8}  # paper 000 Table 1: reservoir bar -> release time s
 TABLE_1_TOL_S = 0.1  # hill_start_amt.md 9.12
-PAIRS = tuple((slope, bar) for slope in (11, 14) for bar in ("65", "70", "75", "80"))
-S1, S2 = "hsa_truck_full_14deg_80bar", "hsa_truck_empty_11deg_80bar"
+PAIRS = tuple((slope, bar) for slope in (11, 14) for bar in ("6p5", "7p0", "7p5", "8p0"))
+S1, S2 = "hsa_truck_full_14deg_8p0bar", "hsa_truck_empty_11deg_8p0bar"
 # the assisted start and its baselines without the assist (same truck, same slope, same driver pedal)
 ENERGY_CASES = (
     (S1, "hsa_truck_full_14deg_no_assist_early_release", "S5: full, early release"),
@@ -128,7 +128,7 @@ def _figure(metrics: dict, out_dir: Path) -> Path:
     fig = Figure(figsize=(12, 4.5), dpi=100)
     FigureCanvasAgg(fig)
     ax1, ax2 = fig.subplots(1, 2)
-    labels = [f"{s}deg {b[0]}.{b[1]}bar" for s, b in PAIRS]
+    labels = [f"{s}deg {b.replace('p', '.')}bar" for s, b in PAIRS]
     x = np.arange(len(PAIRS))
     for off, load in ((-0.2, "empty"), (0.2, "full")):
         ax1.bar(x + off, [metrics[f"hsa_truck_{load}_{s}deg_{b}bar"]["engage_rate_mean_per_s"] for s, b in PAIRS], 0.4,

@@ -20,7 +20,7 @@ class Reproduction:
 
 
 HSA_MATRIX = tuple(f"hsa_truck_{load}_{slope}deg_{bar}bar" for load in ("empty", "full") for slope in (11, 14)
-                   for bar in ("65", "70", "75", "80"))
+                   for bar in ("6p5", "7p0", "7p5", "8p0"))
 
 REPRODUCTIONS: list[Reproduction] = [
     Reproduction(
@@ -31,7 +31,7 @@ REPRODUCTIONS: list[Reproduction] = [
                       "hsa_truck_full_14deg_no_assist_late_release", "truck_11deg_early_release",
                       "truck_11deg_late_release"),
         figures=("hill_start",),
-        figure_scenarios=("hsa_truck_full_14deg_80bar", "hsa_truck_empty_11deg_80bar", "hsa_truck_full_14deg_65bar",
+        figure_scenarios=("hsa_truck_full_14deg_8p0bar", "hsa_truck_empty_11deg_8p0bar", "hsa_truck_full_14deg_6p5bar",
                           "hsa_truck_full_14deg_no_assist_early_release", "hsa_truck_full_14deg_no_assist_late_release",
                           "truck_11deg_late_release"),
         extras=("hill_start_amt_study", "envelope_000", "falsify_000"),  # 9.7/9.10/9.12; issue #7 envelope; #8
