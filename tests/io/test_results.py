@@ -207,7 +207,7 @@ def test_write_run_outputs_writes_the_bundle(tmp_path: Path) -> None:
     assert set(paths) == {"parquet", "csv", "metrics", "overview"}
     assert dir_listing(tmp_path / "run") == ["metrics.json", "overview.png", "trace.csv", "trace.parquet"]
     doc = json.loads(paths["metrics"].read_text())
-    assert list(doc) == ["metrics", "checks", "events", "meta"]
+    assert list(doc) == ["metrics", "checks", "requirements", "events", "meta"]
     assert doc["metrics"] == {"rollback_distance_m": 0.0, "launch_time_s": None}
     assert doc["checks"] == checks
     assert doc["events"] == [e.as_dict() for e in trace.events]
