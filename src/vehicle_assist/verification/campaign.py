@@ -29,7 +29,7 @@ REPRODUCE_GRIDS = {
                        "accelerator.rate_per_s": [0.01, 0.0225, 0.045, 0.5], "accelerator.level_frac": [0.5, 1.0]},
 }
 DENSE_GRIDS = {
-    # ~3,900 points (~7,800 runs) each, a few minutes per function on 2 cores
+    # truck 7,776 points, EV 3,888 points (each with its twin): several minutes per function on 2 cores
     "hill_start_amt": {"mass": [13000, 20000, 30000, 40000], "slope": [0, 4, 8, 12, 16, 20], "reservoir": [6.0, 8.5],
                        "accelerator.start_s": [1.2], "accelerator.duration_s": [0.3, 1.5],
                        "accelerator.level_frac": [0.2, 0.6, 1.0], "hand_valve.at_s": [0.3, 1.0, 2.5]},
