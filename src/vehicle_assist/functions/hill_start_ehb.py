@@ -33,8 +33,10 @@ at refusal), warns and requests the parking brake; the driver's pedal ends it. A
 cannot hold the car in IDLE (rolling back in D, same adhesion test) also refuses, keeping the pressure
 when the driver lifts the pedal.
 
-Added safety (ours, each with a test): a car that rolls back while the assist holds it raises the held
-force at once (a biased slope sensor under-estimates the grade); the driver's brake pedal always wins
+Added safety (ours, each with a test): the slope decision of Step2 needs a grade read from a valid
+accelerometer at this standstill; without one (sensor lost) SLOPE_CHECK -> IDLE ``slope_sensor_lost`` with the
+driver warning (the assist is not available; before, it decided "level road" from the default grade 0);
+a car that rolls back while the assist holds it raises the held force at once (a biased slope sensor under-estimates the grade); the driver's brake pedal always wins
 (the EHB applies the larger of the driver's and the assist's pressure, and pressing the pedal hands
 control back); a lost pressure sensor, a pressure the EHB cannot build, or ``max_hold_time_s`` put the
 assist in DEGRADED with the reason as the event: it keeps holding and releasing with the torque (without
@@ -80,18 +82,19 @@ MACHINE = StateMachine(
         Transition("DEGRADED", "IDLE", "driver_brakes"),
         Transition("DEGRADED", "IDLE", "motor_carries_the_grade"),
         Transition("REFUSED", "IDLE", "driver_brakes"),
+        Transition("SLOPE_CHECK", "IDLE", "slope_sensor_lost"),
     ),
     doc=__doc__ or "",
 )
 TABLE = MACHINE.table()
 IDLE, SLOPE_CHECK, HOLD, FOLLOW, DEGRADED, REFUSED = range(6)
 (G_NEXT1, G_ADHESION, G_ROLLBACK, G_NEXT2, G_LEVEL, G_DRIVER_BRAKES, G_TRACTION, G_MOTOR_LIMIT, G_SENSOR_LOST,
- G_NOT_REACHED, G_MAX_HOLD, G_NEXT3, G_CARRIES) = range(13)
+ G_NOT_REACHED, G_MAX_HOLD, G_NEXT3, G_CARRIES, G_SLOPE_LOST) = range(14)
 assert MACHINE.guards == (
     "next_1_brake_released_at_standstill", "brake_adhesion_limit", "rollback_in_drive", "next_2_on_uphill_slope",
     "level_road",
     "driver_brakes", "traction_limit", "grade_beyond_motor_torque", "pressure_sensor_lost", "pressure_not_reached",
-    "max_hold_time_reached", "next_3_accelerator_pressed", "motor_carries_the_grade",
+    "max_hold_time_reached", "next_3_accelerator_pressed", "motor_carries_the_grade", "slope_sensor_lost",
 )
 # refusal reasons in the order of vehicles/ev_ehb.REFUSAL_REASONS (code k >= 1 is reason k-1)
 REFUSAL_GUARDS = ("brake_adhesion_limit", "traction_limit", "grade_beyond_motor_torque")
@@ -128,6 +131,7 @@ STATE_DTYPE = np.dtype([
     ("rollback_time_s", "f8"),             # time rolling back, summed over the engagement
     ("refusal_code", "f8"),                # 0 none, k = 1 + index in REFUSAL_GUARDS
     ("warning_flag", "f8"),
+    ("grade_valid_flag", "f8"),            # 1 once the grade was read at this standstill from a valid accelerometer
 ])
 
 
@@ -169,6 +173,9 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     # slope from the longitudinal accelerometer while the car stands (reads g*sin(gamma) at rest)
     if standing and m.longitudinal_accel_ok > 0.5 and (mode == IDLE or mode == SLOPE_CHECK):
         c.grade_estimate_rad = math.asin(min(max(m.longitudinal_accel_mps2 / g_acc, -1.0), 1.0))
+        c.grade_valid_flag = 1.0
+    elif (mode == IDLE or mode == SLOPE_CHECK) and not standing:
+        c.grade_valid_flag = 0.0  # driven since the last reading: it belongs to another place on the road
     gamma = c.grade_estimate_rad
     t_request = interp(p.motor_pedal_map_x, p.motor_pedal_map_y, p.motor_pedal_map_n, p.motor_pedal_map_extrap,
                        p.motor_pedal_map_interp, m.accelerator_frac)
@@ -203,15 +210,19 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     k_hold = k_s * max(c.grade_force_n, 0.0) + margin  # K: hold force kept until the motor carries the grade
     c.hold_pressure_pa = k_s * max(c.grade_force_n, 0.0) * r / k_b
 
-    g = np.zeros(13, dtype=np.bool_)
+    g = np.zeros(14, dtype=np.bool_)
     g[G_NEXT1] = being_released and standing and m.gear_lever_index >= 1.0 and c.slope_checked_flag < 0.5
     # after handing back: the car stops on the slope and rolls back in D with the driver off the brake (e.g. a
     # driver who lifts the accelerator while creeping uphill): hold it again (the last grade reading at rest)
     g[G_ROLLBACK] = (m.gear_lever_index >= 1.0 and rolling_back and not brake_applied
                      and gamma >= p.hill_start_assist_slope_min_rad and c.slope_checked_flag > 0.5
                      and int(p.hill_start_assist_release_mode) != RELEASE_IMMEDIATE)
-    g[G_NEXT2] = gamma >= p.hill_start_assist_slope_min_rad
-    g[G_LEVEL] = gamma < p.hill_start_assist_slope_min_rad
+    # the slope decision needs a grade read at this standstill: with the accelerometer lost there is none, and
+    # "level road" would be a decision from an invalid signal -> stand down with the warning (HSA unavailable)
+    grade_valid = c.grade_valid_flag > 0.5
+    g[G_NEXT2] = grade_valid and gamma >= p.hill_start_assist_slope_min_rad
+    g[G_LEVEL] = grade_valid and gamma < p.hill_start_assist_slope_min_rad
+    g[G_SLOPE_LOST] = not grade_valid
     # the driver takes over once their own request carries what the assist holds (a light touch that would
     # not hold the car does not end the hold: the EHB applies the larger of the two requests anyway)
     driver_request_pa = m.brake_pedal_frac * p.ehb_pedal_full_pressure_pa
@@ -282,6 +293,8 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
             c.warning_flag = 0.0
             c.parking_brake_request_flag = 0.0
             c.refusal_code = 0.0
+            if guard == G_SLOPE_LOST:
+                c.warning_flag = 1.0  # the driver is told the hill-start assist is not available
     else:
         c.mode_time_s += dt
     if new_mode == HOLD or new_mode == FOLLOW or new_mode == DEGRADED:

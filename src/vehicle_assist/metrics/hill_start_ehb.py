@@ -8,6 +8,10 @@
   grade resistance (point P2 of the paper's Fig. 3); the paper asks it to be non-zero (P4).
 * ``release_after_start_s``: from the first sample with v > 0.05 m/s to the brake pressure below
   0.1 bar (criterion 5 asks <= 2 s).
+* ``assist_idle_after_start_s``: from the first sample with v > 0.05 m/s to the assist back in IDLE
+  (Step1); the second half of criterion 5 ("and EHB state = Step1", within the same 2 s). Separate from
+  ``release_after_start_s`` because the assist can stay in FOLLOW with the brake at zero while its torque
+  ceiling catches up with the driver's request (NaN if never back in IDLE after the start).
 * ``hold_entered_flag``: 1 if the assist entered HOLD (criterion 7: never on a level road).
 * ``pressure_reapply_pa``: largest rise of the brake pressure over its running minimum while the
   assist follows the torque (criterion 8: a hesitating driver makes it re-apply).
@@ -79,6 +83,17 @@ def release_after_start_s(trace: Trace):
     return _out(np.where(started & released, t[i_rel] - t[i_start], np.nan), trace)
 
 
+def assist_idle_after_start_s(trace: Trace):
+    """Time from v > v_start to the first sample at or after it with the assist in IDLE (NaN if never)."""
+    t = np.asarray(trace["time_s"], dtype=np.float64)
+    v, mode = _ch(trace, "speed_mps"), _ch(trace, "hsa_mode_index")
+    v, mode = np.broadcast_arrays(v, mode)
+    i_start, started = _first(v > START_SPEED_MPS)
+    after = np.arange(v.shape[1])[None, :] >= i_start[:, None]
+    i_idle, idle = _first((mode == H.IDLE) & after)
+    return _out(np.where(started & idle, t[i_idle] - t[i_start], np.nan), trace)
+
+
 def hold_entered_flag(trace: Trace):
     """1 if the assist held the car at any sample, else 0."""
     return _out((_ch(trace, "hsa_mode_index") == H.HOLD).any(axis=-1).astype(float), trace)
@@ -137,6 +152,8 @@ for _m in (
            "brake pressure when the drive force first reaches the grade resistance (P2 of paper 001)"),
     Metric("release_after_start_s", release_after_start_s, ("time_s", "speed_mps", "brake_pressure_pa"),
            "from v > 0.05 m/s to brake pressure < 0.1 bar"),
+    Metric("assist_idle_after_start_s", assist_idle_after_start_s, ("time_s", "speed_mps", "hsa_mode_index"),
+           "from v > 0.05 m/s to the EV assist back in IDLE (Step1)"),
     Metric("hold_entered_flag", hold_entered_flag, ("hsa_mode_index", "brake_pressure_command_pa"),
            "1 if the EV hill-start assist held the car"),
     Metric("pressure_reapply_pa", pressure_reapply_pa, ("hsa_mode_index", "brake_pressure_pa", "brake_pressure_command_pa"),
