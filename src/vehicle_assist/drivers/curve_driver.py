@@ -17,8 +17,8 @@ Phase actions (u1 = the straight speed: the run's initial speed, eq. 11 with the
   light brake if the car runs more than 0.5 m/s above u_t.
 * EXIT: theta = theta_exit until u1.
 u3 = sqrt(a_y_fit(R)*R) (eq. 13, a_y_drv = k*a_ypot = a_y_fit(R)). Steering: the steady-state steer for the
-road curvature at the current speed (delta = (l + K*u^2)/R; a driver who knows the car; the lateral model
-then gives a_y and yaw rate along the road).
+road curvature at the current speed (delta = (l + K*u^2)/R; a driver who knows the car), turned in through a
+first-order lag ``steer_time_constant_s`` (vehicles/amt_car.py); the lateral model then gives a_y and yaw rate.
 """
 from __future__ import annotations
 

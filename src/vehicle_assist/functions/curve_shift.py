@@ -26,6 +26,9 @@ Gear choice every period (in gear, after the dwell since the last shift):
   the AMT executes the whole drop as one shift.
 * NORMAL: the normal schedule (functions/shift_schedule.py), one gear at a time.
 * Engine over-speed guard (always): never command a gear whose engine speed would exceed n_guard.
+* Engine protection (added, issue #11 falsification): in CURVE mode an upshift is allowed once the engine reaches
+  ``upshift_release_speed_rpm`` (the normal schedule's full-throttle upshift speed); without it the inhibit held
+  2nd to 4008 rpm on a downhill curve exit with a late preview, where the normal schedule stayed below 3430 rpm.
 ``fixed_kj_ratio >= 0`` replaces frac*kj_max by that value (clipped to kj_max): the proving-ground replication
 of curve_shift.md 8 criterion 11 ("kj chosen assuming a 53 km/h passage", P13).
 """
@@ -60,7 +63,8 @@ FIT_COEFFS = (-4.585e-8, 5.6235e-5, -0.0238, 4.5947)
 STATE_DTYPE = np.dtype([(n, "f8") for n in (
     "mode", "gear_command_index", "last_shift_end_s", "engaged_prev", "travelled_m", "curve_end_m", "radius_m",
     "command_speed_mps", "lateral_accel_pred_mps2", "tolerable_accel_mps2", "safety_accel_mps2", "kj_frac", "kj_ratio",
-    "kj_max_ratio", "normal_downshift_speed_mps", "advanced_downshift_speed_mps", "curve_count")])
+    "kj_max_ratio", "normal_downshift_speed_mps", "advanced_downshift_speed_mps", "curve_count",
+    "protection_upshift_count")])
 
 
 def initial_state() -> np.recarray:
@@ -210,6 +214,11 @@ def step(st, meas, p, dt, t, machine_id, events, n_events):
         return n_events
     if mode == CURVE:
         target = curve_target_gear(p, st, gear, u, theta)
+        if target == gear and gear < int(p.gearbox_gear_count) and \
+                u * gear_speed_factor(p, gear) >= p.curve_shift_upshift_release_speed_radps:
+            target = gear + 1  # engine protection: the inhibit never holds the engine above the release speed
+            if target != int(st.gear_command_index):
+                st.protection_upshift_count += 1
     else:
         target = normal_target_gear(p, gear, u, theta)
         if target < gear and u * gear_speed_factor(p, target) > p.curve_shift_guard_speed_radps:

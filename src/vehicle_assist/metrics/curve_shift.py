@@ -6,7 +6,8 @@ sample of driver phase 1 (APPROACH), curve entry the first of phase 2, curve exi
 Values are NaN when the event does not occur (a check on a NaN fails).
 
 * ``upshifts_signal_to_exit_count``: upshift commands from the curve signal to curve exit (criterion 1).
-* ``upshifts_in_curve_mode_count``: upshift commands while the strategy is in curve mode (criterion 1).
+* ``upshifts_in_curve_mode_count``: upshift commands while the strategy is in curve mode (criterion 1), without
+  the ones the engine protection released (``protection_upshifts_count``, reported separately).
 * ``upshifts_after_lift_off_count``: upshift commands within 3 s after the signal (criterion 2, P13).
 * ``shift_count``: gear commands that change the gear.
 * ``downshift_5_4_speed_mps`` / ``_4_3_`` / ``_3_2_``: speed at the first command that crosses the line
@@ -86,9 +87,19 @@ def upshifts_signal_to_exit_count(trace):
 def upshifts_in_curve_mode_count(trace):
     def f(r):
         i, g0, g1 = _commands(r)
-        # a command issued at the sample where curve mode ends belongs to the normal schedule
-        return float(np.sum((g1 > g0) & (r["curve_mode_flag"][i - 1] > 0.5) & (r["curve_mode_flag"][i] > 0.5)))
-    return _per_row(trace, ("gear_command_index", "curve_mode_flag"), f)
+        # a command issued at the sample where curve mode ends belongs to the normal schedule; upshifts released
+        # by the engine protection are counted by protection_upshifts_count instead
+        n = np.sum((g1 > g0) & (r["curve_mode_flag"][i - 1] > 0.5) & (r["curve_mode_flag"][i] > 0.5))
+        return float(n) - protection_upshifts(r)
+    return _per_row(trace, ("gear_command_index", "curve_mode_flag", "protection_upshift_count"), f)
+
+
+def protection_upshifts(r) -> float:
+    return float(np.max(r["protection_upshift_count"]))
+
+
+def protection_upshifts_count(trace):
+    return _per_row(trace, ("protection_upshift_count",), protection_upshifts)
 
 
 def upshifts_after_lift_off_count(trace):
@@ -208,8 +219,11 @@ _GEAR = ("gear_command_index",)
 for _m in (
     Metric("upshifts_signal_to_exit_count", upshifts_signal_to_exit_count, _GEAR + ("driver_phase_index",),
            "upshift commands from the curve signal to curve exit"),
-    Metric("upshifts_in_curve_mode_count", upshifts_in_curve_mode_count, _GEAR + ("curve_mode_flag",),
-           "upshift commands while the strategy is in curve mode"),
+    Metric("upshifts_in_curve_mode_count", upshifts_in_curve_mode_count,
+           _GEAR + ("curve_mode_flag", "protection_upshift_count"),
+           "upshift commands while the strategy is in curve mode (engine-protection releases excluded)"),
+    Metric("protection_upshifts_count", protection_upshifts_count, ("protection_upshift_count",),
+           "upshifts the engine protection released in curve mode"),
     Metric("upshifts_after_lift_off_count", upshifts_after_lift_off_count, _GEAR + ("driver_phase_index",),
            "upshift commands within 3 s after the curve signal (lift-off)"),
     Metric("shift_count", shift_count, _GEAR, "gear commands that change the gear"),

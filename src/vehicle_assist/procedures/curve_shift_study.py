@@ -5,6 +5,8 @@
 * extra ``curve_shift_pairs``: the issue's cross-scenario claims (gear at curve entry lower or equal with the
   strategy, strictly lower at 80 km/h; the proving-ground 4->3 earlier), with the shift speeds of each twin,
   an overlay figure per case and the road drawn from the .xodr with the shift points marked;
+* extra ``curve_falsify``: CMA-ES falsification over data/envelopes/curve_shift.toml of each requirement of
+  data/requirements/curve_shift.toml (no over-speed, no upshift in curve mode, a_y below a_ys);
 * extra ``curve_kj_map``: kj (fraction of kj_max at the command) and the gear at curve entry over curve radius x
   speed at the command, run as a batch on the R = 65 m road with the radius scaled through the map; bounds
   checked at every cell: kj <= kj_max, engine speed after any downshift <= n_guard, no upshift in curve mode.
@@ -52,7 +54,7 @@ def reproduction():
         "strategy on and off, the proving-ground case, map-preview faults, the kj map over radius x speed",
         SCENARIOS, figures=("curve_shift",),
         figure_scenarios=("curve_s80", "curve_s65", "curve_s48", "curve_pg", "curve_pg_baseline"),
-        extras=("curve_shift_pairs", "curve_kj_map"))
+        extras=("curve_shift_pairs", "curve_kj_map", "curve_falsify"))
 
 
 def _shifts(trace) -> list[tuple[float, int, int, float, float]]:
@@ -251,4 +253,30 @@ def kj_map_extra(out_dir: Path):
     return [("paper 003: kj and entry gear over radius x speed", path)], entries
 
 
-EXTRAS = {"curve_shift_pairs": pairs_extra, "curve_kj_map": kj_map_extra}
+FALSIFY_BUDGET = 64  # evaluations per requirement (CMA-ES, fixed seed): the campaign of issue #11
+FALSIFY_SEED = 2026
+REQUIREMENTS = ("curve_shift.no_overspeed", "curve_shift.no_upshift_in_curve_mode", "curve_shift.handling_limit")
+
+
+def falsify_extra(out_dir: Path, budget: int = FALSIFY_BUDGET, seed: int = FALSIFY_SEED):
+    """Falsification campaign over data/envelopes/curve_shift.toml for each shipped requirement."""
+    from vehicle_assist.verification.falsify import run_falsification, write_falsification
+
+    figures, entries = [], []
+    for rid in REQUIREMENTS:
+        res = run_falsification("curve_shift", rid, budget=budget, seed=seed, optimizer="cma", batch=8, progress=False)
+        paths = write_falsification(res, Path(out_dir) / f"falsify_{rid.replace('.', '_')}")
+        cex = res.counterexample
+        found = cex if cex is not None else res.best
+        if cex is not None:
+            figures.append((f"paper 003: counterexample of {rid}", paths["plot"]))
+        entries.append({"paper": "003", "scenario": f"falsification of {rid} (budget {budget}, seed {seed})",
+                        "criterion": "no counterexample (robustness: minimum found)", "negative_control": False,
+                        "value": float(found.robustness), "unit": res.requirement.unit or "-", "bound": ">= 0",
+                        "pass": cex is None,
+                        "why": (f"issue #11 envelope; {'counterexample' if cex is not None else 'worst point'} at "
+                                f"[{res.envelope.point_name(found.point)}]; requirement: {res.requirement.why}")})
+    return figures, entries
+
+
+EXTRAS = {"curve_shift_pairs": pairs_extra, "curve_kj_map": kj_map_extra, "curve_falsify": falsify_extra}

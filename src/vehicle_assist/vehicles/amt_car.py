@@ -110,6 +110,7 @@ CHANNELS: dict[str, str] = {
     "lateral_accel_mps2": "lateral acceleration (single-track mode, left +)",
     "driver_phase_index": "curve driver phase (0 straight, 1 approach, 2 curve, 3 exit; -1 scripted)",
     "curve_mode_flag": "1 while the curve strategy is in curve mode",
+    "protection_upshift_count": "upshifts the engine protection released in curve mode so far (functions/curve_shift.py)",
     "kj_ratio": "downshift advance kj of the line below the engaged gear (0 outside curve mode)",
     "kj_max_ratio": "kj_max of that line at the current throttle (eq. 14)",
     "kj_frac": "kj/kj_max held for the curve mode (from a_y_pred, a_ypot, a_ys)",
@@ -168,6 +169,7 @@ def simulate(p, s, noise, meas, ctl, drv, tr, events):
     l_f = p.chassis_cg_to_front_axle_m
     l_r = p.chassis_wheelbase_m - l_f
     brake_decay = math.exp(-dt / p.brakes_time_constant_s)
+    steer_decay = math.exp(-dt / p.curve_driver_steer_time_constant_s)
     use_driver = p.curve_driver_enabled_flag > 0.5
 
     inputs = np.zeros(5)
@@ -203,6 +205,7 @@ def simulate(p, s, noise, meas, ctl, drv, tr, events):
     yaw = 0.0
     a_y = 0.0
     steer = 0.0
+    steer_target = 0.0
     f_b = 0.0
     n_events = np.int64(0)
     n_rec = np.int64(0)
@@ -234,7 +237,8 @@ def simulate(p, s, noise, meas, ctl, drv, tr, events):
                         inputs[i] = override_value[i]
             else:
                 driver_inputs(s, t, override_on, override_value, inputs)
-            steer = single_track.steer_for_curvature_rad(kappa, v, p.chassis_wheelbase_m, p.chassis_understeer_rad_per_mps2)
+            steer_target = single_track.steer_for_curvature_rad(kappa, v, p.chassis_wheelbase_m,
+                                                                p.chassis_understeer_rad_per_mps2)
         if k % ctrl_every == 0:
             p_d, p_r, p_l, p_v = preview(p, s, x)
             truth[0] = v
@@ -321,6 +325,7 @@ def simulate(p, s, noise, meas, ctl, drv, tr, events):
             row.driver_phase_index = drv.phase if use_driver else -1.0
             row.curve_mode_flag = 1.0 if int(ctl.mode) == curve_shift.CURVE else 0.0
             row.kj_ratio = ctl.kj_ratio
+            row.protection_upshift_count = ctl.protection_upshift_count
             row.kj_max_ratio = ctl.kj_max_ratio
             row.kj_frac = ctl.kj_frac
             row.lateral_accel_pred_mps2 = ctl.lateral_accel_pred_mps2
@@ -345,6 +350,7 @@ def simulate(p, s, noise, meas, ctl, drv, tr, events):
         v = v_new
         x += v * dt
         f_b = inputs[IN_BRAKE_PEDAL] * p.brakes_max_force_n + (f_b - inputs[IN_BRAKE_PEDAL] * p.brakes_max_force_n) * brake_decay
+        steer = steer_target + (steer - steer_target) * steer_decay
         old_gear = gear
         gear, gear_target, shift_timer = shift_step(gear, gear_target, shift_timer, ctl.gear_command_index,
                                                     p.gearbox_shift_time_s, dt)
@@ -368,11 +374,12 @@ def gear_names(model) -> list[str]:
 def derived(flat: dict) -> dict:
     """Packed shift lines, gear count, understeer gradient and the a_ys table of the handling diagram."""
     out = dict(flat)
-    up = np.asarray(out.pop("shift_schedule_up_mps"), dtype=float)
-    down = np.asarray(out.pop("shift_schedule_down_mps"), dtype=float)
-    out["shift_schedule_up_flat_mps"] = up.ravel()
-    out["shift_schedule_down_flat_mps"] = down.ravel()
-    out["shift_schedule_theta_count"] = float(up.shape[1])
+    if "shift_schedule_up_mps" in out:  # (a re-derivation after a dotted override finds the packed lines)
+        up = np.asarray(out.pop("shift_schedule_up_mps"), dtype=float)
+        down = np.asarray(out.pop("shift_schedule_down_mps"), dtype=float)
+        out["shift_schedule_up_flat_mps"] = up.ravel()
+        out["shift_schedule_down_flat_mps"] = down.ravel()
+        out["shift_schedule_theta_count"] = float(up.shape[1])
     out["gearbox_gear_count"] = float(len(out["gearbox_ratios"]))
     m = flat["body_mass_kg"]
     l_f = flat["chassis_cg_to_front_axle_m"]

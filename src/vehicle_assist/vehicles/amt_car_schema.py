@@ -82,6 +82,7 @@ class CurveShift(Strict):
     command_needs_deceleration_flag: Flag
     max_downshift_speed_rpm: Annotated[float, Field(gt=1000, le=10000)]
     guard_speed_rpm: Annotated[float, Field(gt=1000, le=10000)]
+    upshift_release_speed_rpm: Annotated[float, Field(gt=1000, le=10000)]
     dwell_time_s: Annotated[float, Field(ge=0, le=10)]
     fixed_kj_ratio: Annotated[float, Field(ge=-1, le=20)]
 
@@ -109,6 +110,7 @@ class CurveDriver(Strict):
     curve_throttle_gain: Annotated[float, Field(ge=0, le=2)]
     curve_throttle_max_frac: Frac
     exit_throttle_frac: Frac
+    steer_time_constant_s: Annotated[float, Field(gt=0, le=2)]
 
 
 class AmtCar(Strict):
