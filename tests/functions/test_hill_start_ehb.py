@@ -697,3 +697,17 @@ def test_refusal_reason_on_steep_low_mu_is_the_physical_one_known_weakness() -> 
     assert reasons, "an impossible start must be refused"
     assert r.metrics["peak_speed_mps"] < 0.05
     assert reasons[0] == "grade_beyond_motor_torque"  # physically: traction_limit (see docstring)
+
+
+@pytest.mark.parametrize("slope_deg", [5, 10])
+def test_full_pedal_in_neutral_keeps_the_car_held(slope_deg) -> None:
+    """Review finding: the driver shifts to N while held (D at next_1) and floors the accelerator. The VCU gives no
+    torque in N (ev_vcu: 'N none'), so nothing but the brake holds the car; the assist's probe release at the motor's
+    maximum was triggered by the driver's *request* alone and let the car creep back at up to 4.9 mm/s (8 mm on
+    10 deg) in repeated bursts. Reference: paper 001 P8 / hill_start_ehb.md 5.1 (v >= -1 mm/s), and the statics:
+    with zero drive force the brake must carry m*g*(sin - f*cos) - the assist's hold does, so v == 0 exactly."""
+    sets = (f"road.slope_deg={slope_deg}", 'driver.gear_lever={time_s=[0.0, 1.5], gear=["D", "N"]}',
+            "driver.accelerator={time_s=[0.0, 4.0, 5.0], frac=[0.0, 0.0, 1.0]}", "run.duration_s=40")
+    r = run(S1, *sets)
+    assert r.trace["motor_torque_nm"].max() == 0.0
+    assert np.all(r.trace["speed_mps"] == 0.0), r.trace["speed_mps"].min()

@@ -346,7 +346,10 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
         else:
             # standing: net push N = F_t - F_b, rate-limited near the lightest car's breakaway
             f_d = min(f_driver, f_motor_max)
-            probing = f_d >= f_motor_max * 0.999 and k_hold > f_motor_max
+            # (only while the motor really gives its maximum: the request alone says nothing in N or with a motor
+            # fault, and releasing then let the car creep back at up to 5 mm/s on 10 deg)
+            probing = (f_d >= f_motor_max * 0.999 and k_hold > f_motor_max
+                       and t_motor >= MOTOR_AT_LIMIT_FRAC * p.motor_max_torque_nm)
             if probing:
                 n_des = f_motor_max  # driver asks the motor's maximum: allow the brake to go (watched for rollback)
             else:
@@ -365,7 +368,8 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
             f_cap = min(max(0.5 * (n_cmd + k_hold), n_cmd), f_d)
             f_b = max(f_cap - n_cmd, 0.0)
             # the brake never credits more motor force than the motor gives (lag, fault) or the driver asks
-            f_b = max(f_b, k_hold - min(f_cap, f_driver, f_motor)) if n_des < f_motor_max else f_b
+            # (skipped only by the probe; before, any full pedal, n_des = f_motor_max, skipped it: N + full pedal crept back)
+            f_b = f_b if probing else max(f_b, k_hold - min(f_cap, f_driver, f_motor))
             f_b = max(f_b, 0.0)
         c.torque_force_n = min(f_cap, f_driver, f_motor)
         if standing and c.torque_force_n + f_brake_meas < c.grade_force_n and pressure_ok and not probing:
