@@ -174,8 +174,9 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     if standing and m.longitudinal_accel_ok > 0.5 and (mode == IDLE or mode == SLOPE_CHECK):
         c.grade_estimate_rad = math.asin(min(max(m.longitudinal_accel_mps2 / g_acc, -1.0), 1.0))
         c.grade_valid_flag = 1.0
-    elif (mode == IDLE or mode == SLOPE_CHECK) and not standing:
+    elif mode == IDLE and not standing:
         c.grade_valid_flag = 0.0  # driven since the last reading: it belongs to another place on the road
+        # (not in SLOPE_CHECK: it is entered at standstill, and a car that starts to roll there keeps that reading)
     gamma = c.grade_estimate_rad
     t_request = interp(p.motor_pedal_map_x, p.motor_pedal_map_y, p.motor_pedal_map_n, p.motor_pedal_map_extrap,
                        p.motor_pedal_map_interp, m.accelerator_frac)
