@@ -56,18 +56,21 @@ def run_ehb_sweep(out_dir: Path) -> tuple[Path, Path, dict]:
     keys = [k for k, _ in keys_and_variants]
     batch = simulate_batch([v for _, v in keys_and_variants],
                            metric_names=["rollback_distance_m", "rollback_speed_mps", "assist_jerk_peak_mps3",
-                                         "assist_refusal_code", "peak_speed_mps"])
+                                         "assist_refusal_code", "peak_speed_mps", "assist_idle_after_start_s"])
     rollback = np.array([m["rollback_distance_m"] for m in batch.metrics])
     back_speed = np.array([m["rollback_speed_mps"] for m in batch.metrics])
     jerk = np.array([m["assist_jerk_peak_mps3"] for m in batch.metrics])
     refusal = np.array([m["assist_refusal_code"] for m in batch.metrics])
+    started = np.array([m["peak_speed_mps"] > 0.05 for m in batch.metrics])  # v_start (hill_start_ehb.md 3)
+    idle_after = np.array([m["assist_idle_after_start_s"] for m in batch.metrics])  # NaN: not back in Step1 in the run
     startable = np.array([motor_can_start(k[1], k[0], keys_and_variants[0][1]) for k in keys])
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     table = pa.table({"slope_deg": [k[0] for k in keys], "mass_kg": [k[1] for k in keys],
                       "accelerator_rate_per_s": [k[2] for k in keys], "rollback_distance_m": rollback,
                       "rollback_speed_mps": back_speed, "assist_jerk_peak_mps3": jerk,
-                      "assist_refusal_code": refusal, "motor_can_start_flag": startable.astype(float)})
+                      "assist_refusal_code": refusal, "motor_can_start_flag": startable.astype(float),
+                      "assist_idle_after_start_s": idle_after})
     table_path = out_dir / "ehb_sweep.parquet"
     with atomic_path(table_path) as tmp:
         pq.write_table(table, tmp)
@@ -84,10 +87,15 @@ def run_ehb_sweep(out_dir: Path) -> tuple[Path, Path, dict]:
         "worst_rollback_case": keys[int(np.nanargmax(rollback))],
         "jerk_ok_frac": float(np.mean(jerk[startable] <= 0.1)) if startable.any() else 1.0,
         "max_jerk_mps3": float(np.max(jerk[startable])) if startable.any() else 0.0,
+        # hill_start_ehb.md 5.5, state half: back in Step1 within 2 s after v > v_start (NaN = never in the run)
+        "started": int(started.sum()),
+        "step1_late": int(np.sum(started & ~(idle_after <= STEP1_BOUND_S))),
+        "max_idle_after_start_s": float(np.nanmax(idle_after[started])) if np.isfinite(idle_after[started]).any() else 0.0,
     }
     return figure, table_path, summary
 
 
+STEP1_BOUND_S = 2.0  # hill_start_ehb.md 5.5: within 2 s after v first exceeds v_start, EHB state = Step1
 SPEED_BOUND_MPS = 1e-3  # paper 001 P8 (Fig. 8c): speed never negative; hill_start_ehb.md 5.1: v >= -1e-3 m/s
 
 

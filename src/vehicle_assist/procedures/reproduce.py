@@ -77,6 +77,13 @@ def ehb_sweep_extra(out_dir):
          "pass": summary["max_jerk_mps3"] <= 0.1,
          "why": f"paper 001 P8 (Fig. 8d) / hill_start_ehb.md 5.2, at every mass, grade and pedal rate of the map "
                 f"({100 * summary['jerk_ok_frac']:.0f} % of the startable variants within the bound)"},
+        {"paper": "001", "scenario": scenario, "criterion": "assist back in Step1 within 2 s after v > v_start (started variants)",
+         "negative_control": False, "value": summary["max_idle_after_start_s"], "unit": "s", "bound": "<= 2",
+         "pass": summary["step1_late"] == 0,
+         "why": f"hill_start_ehb.md 5.5, state half ('and EHB state = Step1'): {summary['step1_late']} of "
+                f"{summary['started']} started variants hand back later or not within the run (value: the latest "
+                "hand-back seen); the jerk-limited torque ceiling catches up with the driver's request at the budget "
+                "B, so 5.2 and 5.5 conflict for this design (docs/functions/hill_start_ehb.md, review)"},
     ]
     return [("paper 001: calibration map (backward speed, jerk)", figure)], entries
 
