@@ -178,3 +178,68 @@ def test_lockup_clutch_torque_follows_the_engine(name) -> None:
     sel = (tr["time_s"] >= t_in) & (tr["time_s"] < t_lock)
     assert sel.sum() >= 2
     assert np.all(tr["clutch_torque_nm"][sel] <= tr["engine_torque_nm"][sel] + 3.0 * 100 * RPM / 0.3 + 1e-6)
+
+
+# ------------------------------------------------------------------ P10's second variable, 9.7 window, S6 (review)
+def test_p10_input_shaft_rate_steers_the_engagement_law() -> None:
+    """Reference: paper 000 P10 (control variables: engine speed AND input-shaft speed change rates; engine falling
+    -> slower, not falling -> faster). With the engine falling at 200 rpm/s (between dn_slow and dn_fast: the
+    engine law alone says v_mid): an input shaft gaining 600 rpm/s (the truck follows) must give a faster
+    engagement, one that does not turn (truck standing) a slower one, no input-shaft reading the engine law
+    alone; an engine below the guard backs off whatever the input shaft does."""
+    from vehicle_assist.functions.hill_start_amt import engagement_rate_per_s
+    p = vehicle_record()
+    w, falling = 1500 * RPM, -200 * RPM
+    alone = engagement_rate_per_s(p, w, falling, np.nan)
+    follows = engagement_rate_per_s(p, w, falling, 600 * RPM)
+    standing = engagement_rate_per_s(p, w, falling, 0.0)
+    assert standing < alone < follows
+    # engine not falling: fast, whatever the input shaft (P10: 'speed not falling -> speed up engagement')
+    assert engagement_rate_per_s(p, w, -20 * RPM, 0.0) == engagement_rate_per_s(p, w, -20 * RPM, np.nan) > alone
+    assert engagement_rate_per_s(p, 600 * RPM, 0.0, 600 * RPM) < 0.0  # anti-stall first
+
+
+def test_p10_input_shaft_rule_is_wired_in_the_kernel() -> None:
+    """Reference: P10 direction. With an engine threshold at which the engine law is active (dn_slow 20 rpm/s), the
+    empty start (S2) engages faster over the law's own time when the input-shaft rule is on than with it switched
+    off (thresholds out of reach): the truck's input shaft accelerates well with the engine hardly falling."""
+    base = ["vehicle.hill_start_assist.speed_drop_slow_rpm_per_s=20"]
+    off = ["vehicle.hill_start_assist.input_accel_fast_rpm_per_s=99999", "vehicle.hill_start_assist.input_accel_slow_rpm_per_s=0"]
+    b = simulate_batch([va.load_scenario(S2, base), va.load_scenario(S2, base + off)],
+                       metric_names=["engage_rate_law_mean_per_s", "rollback_distance_m"])
+    on_rate, off_rate = (m["engage_rate_law_mean_per_s"] for m in b.metrics)
+    assert on_rate > 1.1 * off_rate
+    assert all(m["rollback_distance_m"] <= 0.01 for m in b.metrics)
+
+
+def test_engagement_rate_windows_closed_form() -> None:
+    """Reference: closed form on a constructed trace. Phase B (ENGAGE_HELD) 0-3 s: clutch 0.35 -> 0.50 in 1 s, a
+    1 s wait, 0.50 -> 0.65 in 1 s. Spec-literal mean over phase B (9.7): 0.30/3 = 0.10 /s; over the time the law
+    moves the clutch: 0.30/2 = 0.15 /s."""
+    from vehicle_assist.core.trace import Trace
+    from vehicle_assist.functions import hill_start_amt as hsa
+    from vehicle_assist.metrics.hill_start import engage_rate_law_mean_per_s, engage_rate_mean_per_s
+    t = np.round(np.arange(0.0, 4.0 + 1e-9, 0.01), 10)
+    x = np.where(t <= 1.0, 0.35 + 0.15 * t, np.where(t <= 2.0, 0.50, np.minimum(0.50 + 0.15 * (t - 2.0), 0.65)))
+    mode = np.where(t <= 3.0, hsa.ENGAGE_HELD, hsa.LOCKUP).astype(float)
+    tr = Trace({"time_s": t, "hsa_mode_index": mode, "clutch_command_frac": x})
+    assert engage_rate_mean_per_s(tr) == pytest.approx(0.10, rel=1e-6)
+    assert engage_rate_law_mean_per_s(tr) == pytest.approx(0.15, rel=1e-6)
+
+
+def test_s6_negative_control_fails_for_the_specs_reason() -> None:
+    """Reference: hill_start_amt.md 8 S6 (hand valve only after x_c = 1) and 9.10 (S6 violates 9.2 or 9.3 and has
+    a higher clutch slip energy than S1). The run must show the clutch never closed while the brake held, an
+    engine stall, and W(S6) > W(S1); the study's negative-control entry must say so."""
+    from vehicle_assist.procedures import hill_start_amt_study as study
+    names = [study.S1, study.S6]
+    b = simulate_batch([va.load_scenario(n) for n in names], keep_channels=["clutch_command_frac", "park_lamp_flag"],
+                       metric_names=["clutch_slip_energy_j", "engine_stalled_flag", "launch_time_s"])
+    s1, s6 = b.metrics
+    assert np.max(b.channels[1]["clutch_command_frac"]) < 1.0 and np.all(b.channels[1]["park_lamp_flag"] > 0.5)
+    assert s6["engine_stalled_flag"] == 1.0 and s6["clutch_slip_energy_j"] > s1["clutch_slip_energy_j"]
+    dummy = {"clutch_slip_energy_j": 1.0}
+    metrics = {n: dummy for _, n, _ in study.ENERGY_CASES} | {study.S2: dummy, study.S1: s1, study.S6: s6}
+    entry = study.clutch_energy_entries(metrics)[-1]
+    assert entry["negative_control"] and entry["scenario"] == study.S6 and entry["pass"]
+    assert "stall True" in entry["why"]

@@ -9,8 +9,10 @@ and the engine so that the truck neither rolls back nor stalls, with little clut
   park brake stays applied whatever the driver does with the hand valve. Otherwise the AMT's normal
   start program runs.
 * **Clutch (P10, P14).** Approach to the kiss point at v_A; then slip engagement whose rate follows
-  the engine-speed drop rate (filtered dn_e/dt): fast drop -> slow engagement (heavy load / deep clutch),
-  slow or no drop -> fast engagement, engine below the guard speed -> back off (anti-stall); when the
+  the engine-speed drop rate (filtered dn_e/dt) and the input-shaft speed rate (filtered dn_in/dt, P10's
+  second variable): fast drop -> slow engagement (heavy load / deep clutch), slow or no drop -> fast
+  engagement, input shaft accelerating well with the engine not falling fast -> fast, input shaft not
+  following while the engine falls -> slow, engine below the guard speed -> back off (anti-stall); when the
   slip speed is small and the truck moves, fast final lock-up at v_C.
 * **No back-off below the holding torque.** Once the release is commanded and until the truck moves,
   the anti-stall back-off stops at the clutch position that carries the holding torque estimated from
@@ -209,10 +211,26 @@ def hold_torque_estimate_nm(mass_kg, grade_rad, rolling_coeff, wheel_radius_m, t
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def engagement_rate_per_s(p, engine_speed_radps, engine_speed_rate_radps2):
-    """Slip-engagement law of hill_start_amt.md 6.3 (phase B): the clutch rate follows the engine-speed drop."""
+def engagement_rate_per_s(p, engine_speed_radps, engine_speed_rate_radps2, input_speed_rate_radps2=np.nan):
+    """Slip-engagement law of hill_start_amt.md 6.3 (phase B) with both control variables of paper 000 P10:
+    the engine-speed change rate and the gearbox input-shaft speed change rate (NaN: not measured).
+
+    * engine below the guard speed -> back off (anti-stall, first);
+    * input shaft accelerating well (>= input_accel_fast) and the engine not falling fast -> v_fast (light
+      load: the truck follows the clutch);
+    * input shaft not accelerating (< input_accel_slow: standing or hardly following) while the engine falls
+      (<= -dn_slow) -> v_slow (heavy load, or the clutch drags against the park brake);
+    * otherwise the engine-speed law of 6.3 (v_slow / v_mid / v_fast by the engine-speed drop).
+    """
     if engine_speed_radps < p.hill_start_assist_guard_speed_radps:
         return -p.hill_start_assist_back_off_rate_per_s  # anti-stall
+    if not math.isnan(input_speed_rate_radps2):
+        if (input_speed_rate_radps2 >= p.hill_start_assist_input_accel_fast_radps2
+                and engine_speed_rate_radps2 > -p.hill_start_assist_speed_drop_fast_radps2):
+            return p.hill_start_assist_engage_rate_fast_per_s  # P10: the vehicle follows, load light
+        if (input_speed_rate_radps2 < p.hill_start_assist_input_accel_slow_radps2
+                and engine_speed_rate_radps2 <= -p.hill_start_assist_speed_drop_slow_radps2):
+            return p.hill_start_assist_engage_rate_slow_per_s  # P10: engine falls, input shaft does not follow
     if engine_speed_rate_radps2 <= -p.hill_start_assist_speed_drop_fast_radps2:
         return p.hill_start_assist_engage_rate_slow_per_s  # engine pulled down fast: heavy load or deep clutch
     if engine_speed_rate_radps2 <= -p.hill_start_assist_speed_drop_slow_radps2:
@@ -304,6 +322,8 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     else:
         c.torque_short_time_s = 0.0
     slip_meas = m.engine_speed_radps - m.input_shaft_speed_radps
+    # P10's second control variable (NaN when the input-shaft speed sensor is not valid: engine law alone)
+    in_rate = c.input_speed_rate_radps2 if m.input_shaft_speed_ok > 0.5 else np.nan
     lock_ok = True
     if check:
         lock_ok = engine_ok and m.engine_speed_radps >= w_launch and min(
@@ -417,7 +437,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
             if engine_ok and slip_small and m.vehicle_speed_mps > p.hill_start_assist_moving_speed_mps:
                 x = x + p.hill_start_assist_lockup_rate_per_s * dt
             elif engine_ok:
-                x = max(x + engagement_rate_per_s(p, m.engine_speed_radps, c.engine_speed_rate_radps2) * dt,
+                x = max(x + engagement_rate_per_s(p, m.engine_speed_radps, c.engine_speed_rate_radps2, in_rate) * dt,
                         p.clutch_kiss_point_frac)
                 x = min(x, max(x_ceiling, p.clutch_kiss_point_frac))
             else:
@@ -430,7 +450,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
         if m.hand_valve_released_flag < 0.5 and at_release_point:
             pass  # driver still holds the hand valve in park: wait at the release point (6.2)
         else:
-            x = max(x + engagement_rate_per_s(p, m.engine_speed_radps, c.engine_speed_rate_radps2) * dt,
+            x = max(x + engagement_rate_per_s(p, m.engine_speed_radps, c.engine_speed_rate_radps2, in_rate) * dt,
                     p.clutch_kiss_point_frac)
             x = min(x, max(x_ceiling, p.clutch_kiss_point_frac))
     elif new_mode == ENGAGE_RELEASING:
@@ -439,7 +459,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
         floor = p.clutch_kiss_point_frac
         if m.vehicle_speed_mps < p.hill_start_assist_moving_speed_mps:
             floor = max(floor, _position(p, t_hold))
-        x = max(x + engagement_rate_per_s(p, m.engine_speed_radps, c.engine_speed_rate_radps2) * dt, min(floor, x))
+        x = max(x + engagement_rate_per_s(p, m.engine_speed_radps, c.engine_speed_rate_radps2, in_rate) * dt, min(floor, x))
         # P6: keep the reverse growth of the park force small. While the truck still stands on the releasing
         # park brake, engage no deeper than k x the holding torque; lifted if it moves or the lamp goes out
         # (only while the park brake still holds: once the lamp is out the estimate was too low, engage on)

@@ -12,7 +12,9 @@ The common ones (rollback, stall, engine speeds, clutch slip and brake drag ener
 * ``release_margin_s``: full release time (release command to park lamp off) minus
   ``release_to_load_s``; P12 of the paper asks for a positive margin.
 * ``engage_rate_mean_per_s``: mean commanded clutch rate over the assist's slip engagement (ENGAGE
-  modes); the paper expects it larger empty than full (P9).
+  modes = phase B of hill_start_amt.md 6.3, the window of criterion 9.7); the paper expects it larger empty than
+  full (P9). ``engage_rate_law_mean_per_s``: the same clutch travel over only the time the law moved the clutch
+  (diagnostic: leaves out the waits at our phase-3 and engine-torque ceilings).
 * ``valve_32_energized_flag``, ``park_brake_drag_energy_j``.
 * ``assist_refusal_code``: largest refusal code of the run (0 = none; k = ``REFUSAL_REASONS[k - 1]`` of the
   vehicle module); ``tyre_slip_energy_j``: work dissipated at the driven tyres at the adhesion limit.
@@ -104,6 +106,24 @@ def engage_rate_mean_per_s(trace: Trace):
     return _out(np.where(found & (last > first), rate, np.nan), trace)
 
 
+def engage_rate_law_mean_per_s(trace: Trace):
+    """Mean clutch rate over the time the engagement law moves the clutch in the slip engagement: the same
+    clutch travel as ``engage_rate_mean_per_s`` divided by the phase-B time in which the command changed (the
+    waits at the phase-3 ceiling, the engine-torque ceiling and the release point, which are our additions and
+    not in hill_start_amt.md 6.3, are left out). A diagnostic next to 9.7, not the criterion."""
+    t = _time(trace)
+    mode = _ch(trace, "hsa_mode_index")
+    engage = (mode == hill_start_amt.ENGAGE_HELD) | (mode == hill_start_amt.ENGAGE_RELEASING)
+    x = _ch(trace, "clutch_command_frac")
+    first, found = _first(engage)
+    last = engage.shape[1] - 1 - np.argmax(engage[:, ::-1], axis=-1)
+    moving = engage[:, 1:] & (np.abs(np.diff(x, axis=-1)) > 1e-12)
+    active_s = np.sum(moving * np.diff(t)[None, :], axis=-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rate = (_take(x, last) - _take(x, first)) / active_s
+    return _out(np.where(found & (active_s > 0.0), rate, np.nan), trace)
+
+
 def valve_32_energized_flag(trace: Trace):
     """1 if the 3/2 valve was energised at any sample (the assist held the park brake), else 0."""
     return _out((np.max(_ch(trace, "valve_32_energized_flag"), axis=-1) > 0.5).astype(float), trace)
@@ -144,6 +164,8 @@ for _m in (
            "full release time minus release-to-load time (paper 000 P12: > 0)"),
     Metric("engage_rate_mean_per_s", engage_rate_mean_per_s, ("time_s", "hsa_mode_index", "clutch_command_frac"),
            "mean clutch rate during the hill-start assist's slip engagement"),
+    Metric("engage_rate_law_mean_per_s", engage_rate_law_mean_per_s, ("time_s", "hsa_mode_index", "clutch_command_frac"),
+           "mean clutch rate while the engagement law moves the clutch (waits at ceilings left out; diagnostic of 9.7)"),
     Metric("valve_32_energized_flag", valve_32_energized_flag, ("valve_32_energized_flag",),
            "1 if the hill-start assist energised the 3/2 valve"),
     Metric("park_brake_drag_energy_j", park_brake_drag_energy_j, ("time_s", "park_brake_force_n", "speed_mps"),

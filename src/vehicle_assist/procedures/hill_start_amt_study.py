@@ -10,8 +10,10 @@ numbers (an honest red, not a tuned green):
 * **9.10** - the assisted start must not dissipate more clutch slip energy than the same truck without the
   assist, early (S5) or late (S6) release (P6: releasing too late costs extra clutch load); the negative
   control S6 must violate 9.2 or 9.3 and dissipate more clutch energy than S1 (spec: "much higher"; the spec
-  gives no factor, so the weakest reading, W(S6) > W(S1), is used). S5 must violate 9.1 (its rollback is
-  checked in its own scenario file).
+  gives no factor, so the weakest reading, W(S6) > W(S1), is used). S6 is the spec's run: the hand valve is
+  opened only after x_c = 1 (``hsa_truck_full_14deg_s6_release_after_lockup``; the clutch never closes against
+  the applied brake, so it is never opened); the hand valve at 3 s is a baseline, not S6 (it is opened at
+  x_c = 0.61, before the clutch carries the grade). S5 must violate 9.1 (checked in its own scenario file).
 * **9.12** - the truck kernel with the assist off, the hand valve opened at 1.0 s on a level road: the park
   lamp goes out within +/- 0.1 s of paper 000 Table 1 (2.5 / 2.3 / 2.0 / 1.8 s at 6.5 / 7.0 / 7.5 / 8.0 bar).
 """
@@ -26,10 +28,13 @@ TABLE_1 = {6.5: 2.5, 7.0: 2.3, 7.5: 2.0, 8.0: 1.8}  # paper 000 Table 1: reservo
 TABLE_1_TOL_S = 0.1  # hill_start_amt.md 9.12
 PAIRS = tuple((slope, bar) for slope in (11, 14) for bar in ("6p5", "7p0", "7p5", "8p0"))
 S1, S2 = "hsa_truck_full_14deg_8p0bar", "hsa_truck_empty_11deg_8p0bar"
+# the spec's S6 (hill_start_amt.md 8: park brake released only after x_c = 1); the 3-s late release is a baseline only
+S6 = "hsa_truck_full_14deg_s6_release_after_lockup"
 # the assisted start and its baselines without the assist (same truck, same slope, same driver pedal)
 ENERGY_CASES = (
     (S1, "hsa_truck_full_14deg_no_assist_early_release", "S5: full, early release"),
-    (S1, "hsa_truck_full_14deg_no_assist_late_release", "S6: full, late release"),
+    (S1, "hsa_truck_full_14deg_no_assist_late_release", "full, late release (hand valve at 3 s)"),
+    (S1, "hsa_truck_full_14deg_s6_release_after_lockup", "S6: full, hand valve only after x_c = 1"),
     (S2, "truck_11deg_early_release", "empty, early release"),
     (S2, "truck_11deg_late_release", "empty, late release"),
 )
@@ -44,12 +49,17 @@ def load_adaptation_entries(metrics: dict) -> list[dict]:
     """9.7 for each empty/full pair."""
     out = []
     for slope, bar in PAIRS:
-        empty = metrics[f"hsa_truck_empty_{slope}deg_{bar}bar"]["engage_rate_mean_per_s"]
-        full = metrics[f"hsa_truck_full_{slope}deg_{bar}bar"]["engage_rate_mean_per_s"]
+        m_e, m_f = metrics[f"hsa_truck_empty_{slope}deg_{bar}bar"], metrics[f"hsa_truck_full_{slope}deg_{bar}bar"]
+        empty, full = m_e["engage_rate_mean_per_s"], m_f["engage_rate_mean_per_s"]
+        law_e, law_f = m_e.get("engage_rate_law_mean_per_s", np.nan), m_f.get("engage_rate_law_mean_per_s", np.nan)
         out.append(_entry(f"hsa_truck_empty/full_{slope}deg_{bar}bar", "engage_rate_mean_per_s empty - full",
                           empty - full, "1/s", "> 0", empty > full,
                           f"hill_start_amt.md 9.7 / paper 000 P9: engagement faster empty than full "
-                          f"(empty {empty:.4f} /s, full {full:.4f} /s)"))
+                          f"(spec-literal, mean over phase B: empty {empty:.4f} /s, full {full:.4f} /s; diagnostic, not the "
+                          f"criterion: over the time the law moves the clutch, without the waits at our phase-3 and "
+                          f"engine-torque ceilings: empty {law_e:.4f} /s, full {law_f:.4f} /s. Why it fails: phase B is "
+                          f"dominated by the wait for the spring chambers (the paper's release times, the same for both loads), and the "
+                          f"engine-speed and input-shaft laws of P10 choose v_fast for both loads)"))
     return out
 
 
@@ -63,14 +73,15 @@ def clutch_energy_entries(metrics: dict) -> list[dict]:
                           "<= 1", w_a <= w_b,
                           f"hill_start_amt.md 9.10 / paper 000 P6 ({label}): the assist should not dissipate more clutch "
                           f"energy than the start without it (assisted {w_a / 1e3:.0f} kJ, baseline {w_b / 1e3:.0f} kJ)"))
-    s6 = metrics["hsa_truck_full_14deg_no_assist_late_release"]
+    s6 = metrics[S6]
     w1 = metrics[S1]["clutch_slip_energy_j"]
     stalled_or_no_start = s6["engine_stalled_flag"] > 0 or not (s6["launch_time_s"] <= 15.0)
-    out.append(_entry("hsa_truck_full_14deg_no_assist_late_release", "S6: stall or no start, and W(S6) > W(S1)",
+    out.append(_entry(S6, "S6: stall or no start, and W(S6) > W(S1)",
                       s6["clutch_slip_energy_j"] / w1, "1", "> 1 with a stall or no start",
                       stalled_or_no_start and s6["clutch_slip_energy_j"] > w1,
                       f"hill_start_amt.md 9.10 negative control S6 must violate 9.2 or 9.3 and have much higher clutch "
-                      f"slip energy than S1 (stall {bool(s6['engine_stalled_flag'])}, launch {s6['launch_time_s']:.2f} s, "
+                      f"slip energy than S1; the spec gives no factor for 'much higher', the weakest reading W(S6) > W(S1) "
+                      f"is used (stall {bool(s6['engine_stalled_flag'])}, launch {s6['launch_time_s']:.2f} s, "
                       f"W(S6) {s6['clutch_slip_energy_j'] / 1e3:.0f} kJ, W(S1) {w1 / 1e3:.0f} kJ)", negative=True))
     return out
 
@@ -106,7 +117,8 @@ def run_study(out_dir: Path | None = None) -> tuple[list[tuple[str, Path]], list
     names = [f"hsa_truck_{load}_{slope}deg_{bar}bar" for load in ("empty", "full") for slope, bar in PAIRS]
     names += sorted({b for _, b, _ in ENERGY_CASES})
     batch = simulate_batch([va.load_scenario(n) for n in names],
-                           metric_names=["engage_rate_mean_per_s", "clutch_slip_energy_j", "engine_stalled_flag",
+                           metric_names=["engage_rate_mean_per_s", "engage_rate_law_mean_per_s", "clutch_slip_energy_j",
+                                         "engine_stalled_flag",
                                          "launch_time_s"])
     metrics = dict(zip(names, batch.metrics))
     entries = load_adaptation_entries(metrics) + clutch_energy_entries(metrics) + table_1_entries()

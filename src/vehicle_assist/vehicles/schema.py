@@ -223,6 +223,8 @@ class HillStartAssist(Strict):
     speed_drop_fast_rpm_per_s: Annotated[float, Field(gt=0, le=10000)]
     speed_drop_slow_rpm_per_s: Annotated[float, Field(gt=0, le=10000)]
     speed_rate_filter_s: Annotated[float, Field(gt=0, le=2)]
+    input_accel_fast_rpm_per_s: Annotated[float, Field(gt=0, le=100000)] = 300.0
+    input_accel_slow_rpm_per_s: Annotated[float, Field(ge=0, le=100000)] = 50.0
     guard_speed_rpm: Annotated[float, Field(ge=0, le=2000)]
     lockup_slip_rpm: Annotated[float, Field(gt=0, le=1000)]
     lockup_rate_per_s: Annotated[float, Field(gt=0, le=20)]
