@@ -5,20 +5,41 @@ fix, and the exit code is 2. A run whose checks do not come out as expected exit
 """
 from __future__ import annotations
 
-import json
-import math
-import sys
-import time
-from pathlib import Path
-from typing import List, Optional
+import os
 
-import typer
-from rich.console import Console
-from rich.table import Table as RichTable
+# The compiled kernels use no BLAS; OpenBLAS's idle worker threads spin and steal the cores that batch runs
+# need (measured: ~15 % slower batches on 2 cores). Set for the command line's own process only, before
+# numpy is imported (the package itself sets nothing process-wide at import).
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import json  # noqa: E402
+import math  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+from pathlib import Path  # noqa: E402
+from typing import List, Optional  # noqa: E402
+
+import typer  # noqa: E402
+from rich.console import Console  # noqa: E402
+from rich.table import Table as RichTable  # noqa: E402
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, help="Vehicle assistance functions: simulate, calibrate, verify.")
 console = Console()
 err_console = Console(stderr=True)
+
+def _version(value: bool) -> None:
+    if value:
+        import vehicle_assist
+
+        print(f"vehicle-assist {vehicle_assist.__version__}")
+        raise typer.Exit(0)
+
+
+@app.callback()
+def _root(version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
+                                       help="print the version and exit")) -> None:
+    """Vehicle assistance functions: simulate, calibrate, verify."""
+
 
 SetOpt = typer.Option(None, "--set", "-s", help="override by dotted path, e.g. vehicle.body.mass_kg=30000 (repeatable)")
 
@@ -117,19 +138,45 @@ def _load(scenario: str, sets: Optional[List[str]]):
 
 @app.command()
 def check(scenario: str = typer.Argument(..., help="shipped scenario name or a .toml file"), set_: Optional[List[str]] = SetOpt) -> None:
-    """Validate a scenario file without running it."""
+    """Validate a scenario or vehicle file without running it."""
+    if _is_vehicle(scenario) and not set_:
+        from vehicle_assist.scenarios.errors import InputError
+        from vehicle_assist.scenarios.loader import load_vehicle
+
+        try:
+            v = load_vehicle(scenario)
+        except InputError as exc:
+            _fail(str(exc))
+        _say(f"ok: vehicle {v.model.name} (layout {v.model.layout}), {len(v.sources)} parameters with sources")
+        return
     sc = _load(scenario, set_)
     _say(f"ok: {sc.name} ({sc.vehicle.model.name}, layout {sc.layout}), {len(sc.model.checks)} checks, "
          f"{len(sc.model.events)} events, {sc.model.run.duration_s:g} s")
-    if sc.model.road.curve_radius is not None:
-        console.print("note: road.curve_radius is validated but not yet used by the longitudinal plants")
+    if sc.model.road.curve_radius is not None and sc.layout != "amt_car":
+        console.print("note: road.curve_radius is used by the amt_car layout only; the longitudinal plants ignore it")
+
+
+def _is_vehicle(name: str) -> bool:
+    """A shipped vehicle name, or a .toml file that is a vehicle (a layout or a base, and no run section)."""
+    from vehicle_assist.scenarios.errors import InputError
+    from vehicle_assist.scenarios.loader import _read_toml, shipped
+
+    if name in shipped("vehicles"):
+        return True
+    if name in shipped("scenarios") or not name.endswith(".toml"):
+        return False
+    try:
+        raw = _read_toml(Path(name))
+    except (InputError, OSError):
+        return False  # the scenario loader says what is wrong with it
+    return "layout" in raw or ("base" in raw and "run" not in raw)
 
 
 def _metrics_table(title: str, metrics: dict) -> RichTable:
     from rich.text import Text
 
     table = RichTable(title=Text(_plain(title)))
-    table.add_column("metric")
+    table.add_column("metric", no_wrap=True)
     table.add_column("value (SI)", justify="right")
     table.add_column("", justify="right")
     for name, value in metrics.items():
@@ -137,13 +184,42 @@ def _metrics_table(title: str, metrics: dict) -> RichTable:
     return table
 
 
+def _bound_display(metric: str, c) -> str:
+    """The bound in SI and, for rpm / km/h / bar quantities, in that unit too: '<= 0.01 (<= 0.04 km/h)'."""
+    from vehicle_assist.report.compare import display
+
+    parts = []
+    for op, value in ((">=", c.min), ("<=", c.max)):
+        if value is not None:
+            shown, unit = display(metric, float(value))
+            parts.append(f"{op} {shown:.4g} {unit}" if unit in ("rpm", "km/h", "bar") else "")
+    extra = " and ".join(p for p in parts if p)
+    return f"{c.bound} ({extra})" if extra else c.bound
+
+
 def _checks_table(title: str, checks) -> RichTable:
     table = RichTable(title=title)
     for col in ("check", "value", "bound", "expect", "result"):
-        table.add_column(col)
+        table.add_column(col, no_wrap=col == "check")
     for c in checks:
-        mark = "[green]ok[/]" if c.ok else "[red]FAIL[/]"
-        table.add_row(c.metric, _fmt(c.value), c.bound, c.expect, mark)
+        mark = "[green]ok[/]" if c.ok else ("[green]fails as required[/]" if c.expect == "fail" else "[red]FAIL[/]")
+        if c.expect == "fail" and not c.ok:
+            mark = "[red]FAIL (should fail)[/]"
+        table.add_row(c.metric, _fmt(c.value), _bound_display(c.metric, c), c.expect, mark)
+    return table
+
+
+def _events_table(events) -> RichTable:
+    from rich.text import Text
+
+    from vehicle_assist.report.plots import debounced_events
+
+    table = RichTable(title="events (changes < 50 ms apart merged; all of them in metrics.json)")
+    for col in ("time s", "machine", "from", "to", "guard"):
+        table.add_column(col, justify="right" if col == "time s" else "left")
+    for t0, t1, *texts in debounced_events(events):
+        when = f"{t0:.3f}" if t1 == t0 else f"{t0:.3f}-{t1:.3f}"
+        table.add_row(when, *(Text(_plain(x)) for x in texts))
     return table
 
 
@@ -153,9 +229,15 @@ def run(
     set_: Optional[List[str]] = SetOpt,
     out_text: str = typer.Option("out/run", "--out", "-o", help="output directory"),
     plot: bool = typer.Option(True, help="write overview.png"),
+    fmt: str = typer.Option("parquet,csv", "--format", "-f",
+                            help="trace formats: parquet, csv, mdf4 (comma-separated)"),
     yes: bool = YesOpt,
 ) -> None:
-    """Run one scenario: print metrics and checks, write trace.parquet, trace.csv, metrics.json, overview.png."""
+    """Run one scenario: print metrics, checks and events; write the trace (trace.parquet and trace.csv, or
+    --format mdf4 for trace.mf4), metrics.json and overview.png."""
+    from vehicle_assist.cli_results import parse_formats
+
+    formats = parse_formats(fmt, _fail)
     from rich.text import Text
 
     from vehicle_assist.io.results import write_run_outputs
@@ -180,10 +262,12 @@ def run(
         from vehicle_assist.cli_verify import requirements_table
 
         console.print(requirements_table(result.requirements))
+    if result.trace.events:
+        console.print(_events_table(result.trace.events))
     try:
         with console.status("writing results..."):
             paths = write_run_outputs(result.trace, result.metrics, out, sc.name, [c.as_dict() for c in result.checks], plot=plot,
-                                      requirements=[r.as_dict() for r in result.requirements])
+                                      requirements=[r.as_dict() for r in result.requirements], formats=formats)
     except OSError as exc:
         _write_failed(exc, out)
     _say(f"wrote {', '.join(str(p) for p in paths.values())}")
@@ -255,9 +339,13 @@ def sweep(
     out_text: str = typer.Option("out/sweep", "--out", "-o", help="output directory (an interrupted sweep resumes here)"),
     chunk: int = typer.Option(500, help="variants per part file (1 to 100000)"),
     workers: int = typer.Option(0, help="threads (0 = all cores, at most 64)"),
+    plot: Optional[List[str]] = typer.Option(None, "--plot", help="X Y METRIC: heat map of METRIC over grid axes "
+                                             "X and Y (Y '-' for a line plot over X), to sweep.png and sweep.html"),
     yes: bool = YesOpt,
 ) -> None:
-    """Run a grid of variants of one scenario on all cores; results to sweep.parquet (resumable, locked)."""
+    """Run a grid of variants of one scenario on all cores; results to sweep.parquet (resumable, locked).
+    With --plot "X Y METRIC" also a plot and a sweep report (sweep.png, sweep.html)."""
+    plot_spec = _plot_spec(plot)
     from vehicle_assist.scenarios.errors import InputError
     from vehicle_assist.scenarios.sweep import run_sweep
 
@@ -271,6 +359,39 @@ def sweep(
     except OSError as exc:
         _write_failed(exc, out)
     _say(f"wrote {path} ({n} variants)")
+    if plot_spec:
+        _sweep_plot(path, *plot_spec)
+
+
+def _plot_spec(plot) -> tuple[str, str | None, str] | None:
+    if not plot:
+        return None
+    words = [w for item in plot for w in item.split()]
+    if len(words) != 3:
+        _fail(f"--plot {' '.join(plot)!r}: give three words X Y METRIC (Y '-' for a line plot), e.g. "
+              "--plot 'road.slope_deg vehicle.body.mass_kg rollback_distance_m'")
+    x, y, metric = words
+    return x, (None if y == "-" else y), metric
+
+
+def _sweep_plot(path: Path, x: str, y: str | None, metric: str) -> None:
+    import pyarrow.parquet as pq
+
+    from vehicle_assist.report.compare import sweep_html, sweep_png
+
+    table = pq.read_table(path)
+    df = table.to_pandas()
+    for col, what in ((x, "X"), (y, "Y"), (metric, "METRIC")):
+        if col is not None and col not in df.columns:
+            from vehicle_assist.scenarios.errors import did_you_mean
+
+            _fail(f"--plot {what} {col!r}: not a column of {path}{did_you_mean(col, list(df.columns))}")
+    record = json.loads((table.schema.metadata or {}).get(b"vehicle_assist.sweep", b"{}"))
+    record["created_utc"] = (table.schema.metadata or {}).get(b"created_utc", b"").decode()
+    title = f"{record.get('scenario', '')}: {metric}"
+    figure = sweep_png(df, x, y, metric, path.parent / "sweep.png", title)
+    page = sweep_html(df, record, figure, path.parent / "sweep.html")
+    _say(f"wrote {figure}, {page}")
 
 
 @app.command()
@@ -294,12 +415,12 @@ def metrics() -> None:
     """List the metrics that checks can name."""
     from vehicle_assist.metrics import METRICS
 
-    table = RichTable(title="metrics")
-    table.add_column("name")
-    table.add_column("needs channels")
-    table.add_column("description")
+    table = RichTable(title="metrics", show_lines=True)
+    table.add_column("name", no_wrap=True)  # names a user copies: never cut or wrapped
+    table.add_column("needs channels", no_wrap=True)
+    table.add_column("description", ratio=1)
     for name, m in sorted(METRICS.items()):
-        table.add_row(name, ", ".join(m.requires), m.description)
+        table.add_row(name, "\n".join(m.requires), m.description)
     console.print(table)
 
 
@@ -310,6 +431,10 @@ _register_verify(app)
 from vehicle_assist.cli_r139 import register as _register_r139  # noqa: E402  (UN R139 brake-assist test)
 
 _register_r139(app)
+
+from vehicle_assist.cli_results import register as _register_results  # noqa: E402  (export, compare)
+
+_register_results(app)
 
 
 def main() -> None:
