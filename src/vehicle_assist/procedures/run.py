@@ -2,10 +2,10 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Sequence
 
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-from rich.table import Table as RichTable
 
 from vehicle_assist.io.results import write_json, write_trace_parquet
 from vehicle_assist.procedures.reproduce import EXTRAS, REPRODUCTIONS
@@ -16,14 +16,19 @@ from vehicle_assist.scenarios.runner import simulate
 from vehicle_assist.units import unit_of
 
 
-def run_reproductions(out: Path, console: Console | None = None) -> list[dict]:
+def run_reproductions(out: Path, console: Console | None = None, papers: Sequence[str] | None = None,
+                      extras: Sequence[str] | None = None) -> list[dict]:
+    """Run the registered reproductions (all, or only ``papers``) with their studies (all of them, or only
+    those named in ``extras``) and write summary.json, index.html and the figures into ``out``."""
     console = console or Console()
+    selected = [rep for rep in REPRODUCTIONS if papers is None or rep.paper in papers]
     out = Path(out)
     figures_dir = out / "figures"
     figures_dir.mkdir(parents=True, exist_ok=True)
     entries: list[dict] = []
     figures: list[tuple[str, Path]] = []
-    jobs = [(rep, name) for rep in REPRODUCTIONS for name in rep.scenarios]
+    hashes: dict[str, dict[str, str]] = {}
+    jobs = [(rep, name) for rep in selected for name in rep.scenarios]
     with Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
                   TimeElapsedColumn(), console=console, transient=True) as progress:
         task = progress.add_task("reproducing", total=len(jobs))
@@ -31,6 +36,8 @@ def run_reproductions(out: Path, console: Console | None = None) -> list[dict]:
             progress.update(task, description=f"{rep.paper}: {name}")
             sc = load_scenario(name)
             result = simulate(sc)
+            hashes[name] = {"scenario_hash": result.trace.meta.get("scenario_hash", ""),
+                            "parameter_hash": result.trace.meta.get("parameter_hash", "")}
             write_trace_parquet(result.trace, out / "traces" / f"{name}.parquet")
             if rep.figure_scenarios is None or name in rep.figure_scenarios:
                 for kind in rep.figures:
@@ -62,23 +69,34 @@ def run_reproductions(out: Path, console: Console | None = None) -> list[dict]:
                     "why": r.why,
                 })
             progress.advance(task)
-        for rep in REPRODUCTIONS:
-            for extra in rep.extras:
+        for rep in selected:
+            for extra in (x for x in rep.extras if extras is None or x in extras):
                 progress.update(task, description=f"{rep.paper}: {extra}")
                 extra_figures, extra_entries = EXTRAS[extra](out / "studies")
                 figures.extend(extra_figures)
-                entries.extend(extra_entries)
-    for rep in REPRODUCTIONS:
-        table = RichTable(title=f"paper {rep.paper}: {rep.title}", title_justify="left")
-        for col in ("scenario", "criterion", "value", "bound", "pass"):
-            table.add_column(col, overflow="fold")
+                entries.extend({**e, "section": e.get("section") or f"study: {extra.replace('_', ' ')}"}
+                               for e in extra_entries)
+    for rep in selected:
+        # one line per scenario name, its criteria indented below: names a user copies are never cut or
+        # wrapped, whatever the terminal width
+        console.print(f"[bold]paper {rep.paper}: {rep.title}[/]", highlight=False, soft_wrap=True)
+        last = None
         for e in (e for e in entries if e["paper"] == rep.paper):
-            bound = e["bound"] + (" must fail (negative control)" if e["negative_control"] else "")
+            if e["scenario"] != last:
+                console.print(f"  {e['scenario']}", highlight=False, markup=False, soft_wrap=True)
+                last = e["scenario"]
             unit = "" if e["unit"] in ("1", "-") else f" {e['unit']}"
-            table.add_row(e["scenario"], e["criterion"], f"{e['value']:.4g}{unit}", bound,
-                          "[green]pass[/]" if e["pass"] else "[red]FAIL[/]")
-        console.print(table)
+            value = f"{e['value']:.4g}" if isinstance(e["value"], (int, float)) else str(e["value"])
+            if e.get("negative_control"):
+                mark = "[green]fails as required[/]" if e["pass"] else "[red]FAIL (should fail)[/]"
+                bound = f"must fail: {e['bound']}"
+            else:
+                mark = "[green]pass[/]" if e["pass"] else "[red]FAIL[/]"
+                bound = e["bound"]
+            console.print(f"    {mark} ", end="", highlight=False, soft_wrap=True)
+            console.print(f"{e['criterion']} = {value}{unit} ({bound})", highlight=False, markup=False, soft_wrap=True)
     write_json(entries, out / "summary.json")
-    page = write_reproduce_page(entries, figures, out / "index.html", "vehicle-assist: paper reproductions")
+    page = write_reproduce_page(entries, figures, out / "index.html", "vehicle-assist: paper reproductions",
+                                papers={rep.paper: rep.title for rep in selected}, scenario_hashes=hashes)
     console.print(f"wrote {out / 'summary.json'}, {page} and {len(figures)} figures in {figures_dir}")
     return entries
