@@ -27,6 +27,7 @@ import numpy as np
 
 from vehicle_assist.core.fsm import log_event
 from vehicle_assist.functions import abs as abs_fn
+from vehicle_assist.functions import blowout_compensation as bc
 from vehicle_assist.functions import brake_assist as hba
 
 # wheel valve modes (the ESP unit's table rows; same order as plant/brakes/esp_unit.py MODES)
@@ -46,6 +47,17 @@ ARBITRATION = np.array([
     [W_T, W_T, W_D, W_T, W_T, W_T],      # TERMINATING
 ], dtype=np.int64)
 PRIORITY = np.array([0, 2, 3, 1], dtype=np.int64)  # select-low: DUMP > HOLD > BUILD > OFF
+# BLOWOUT_ARBITRATION[compensation request][wheel mode after ABS/HBA] -> wheel mode (paper 004 P7, issue #10):
+#   BUILD (accumulator build for the valve time) and HOLD give way to ABS (hold/dump/pulsed build: lock threat)
+#   and to HBA's own build; RELEASE (the blown wheel is not braked) always dumps; PULSE = closed-loop build.
+BLOWOUT_ARBITRATION = np.array([
+    # N     B     HI    H     D     BP    BPM    T
+    [W_N, W_B, W_HI, W_H, W_D, W_BP, W_BPM, W_T],    # NONE
+    [W_B, W_B, W_HI, W_H, W_D, W_BP, W_BPM, W_B],    # BUILD
+    [W_HI, W_B, W_HI, W_H, W_D, W_BP, W_BPM, W_HI],  # HOLD
+    [W_D, W_D, W_D, W_D, W_D, W_D, W_D, W_D],        # RELEASE
+    [W_BP, W_B, W_BP, W_H, W_D, W_BP, W_BPM, W_BP],  # PULSE
+], dtype=np.int64)
 ABS_ACTIVE_WINDOW_S = 0.3  # "ABS active on a wheel = a hold or dump in the last 0.3 s" (spec 4.3)
 ABS_LOG_CAP = 60  # ABS mode changes logged per wheel (the event buffer is shared; all are in the trace)
 
@@ -72,6 +84,9 @@ def _estimate(mode, p_est, p_src, dt, p):
         return p_src
     if mode == W_B or mode == W_BP:
         rate = p.esp_unit_pump_build_rate_pa_per_s * (1.0 if mode == W_B else p.esp_unit_pulse_duty_frac)
+        if p.esp_unit_pressure_source > 0.5:  # accumulator (EHB of paper 004): orifice-like fill
+            rate = max(p.esp_unit_accumulator_pa - p_est, 0.0) / p.esp_unit_accumulator_time_constant_s \
+                * (1.0 if mode == W_B else p.esp_unit_pulse_duty_frac)
         return max(min(p_est + rate * dt, max(p.esp_unit_pump_relief_pa, p_est)), p_src)
     if mode == W_BPM:
         return p_est + min(p.esp_unit_pulse_duty_frac * max(p_src - p_est, 0.0) * min(dt / p.esp_unit_line_time_constant_s, 1.0),
@@ -86,7 +101,7 @@ def _estimate(mode, p_est, p_src, dt, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, abs_guards, hba_guards):
+def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, abs_guards, hba_guards, bst, m_blow):
     """One ESP period; writes the wheel valve modes into ``wheels[:, A_WHEEL_MODE]``; returns n_events."""
     r_w = p.body_wheel_radius_m
     vw0 = meas.wheel_speed_fl_radps * r_w
@@ -94,6 +109,12 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     vw2 = meas.wheel_speed_rl_radps * r_w
     vw3 = meas.wheel_speed_rr_radps * r_w
     v_max = max(max(vw0, vw1), max(vw2, vw3))
+    blown = int(bst[bc.S_BLOWN])
+    if blown >= 0:  # a blown wheel turns faster (smaller radius): the reference ignores it
+        v_max = 0.0
+        for i, vw in enumerate((vw0, vw1, vw2, vw3)):
+            if i != blown:
+                v_max = max(v_max, vw)
     wheels_ok = (meas.wheel_speed_fl_ok > 0.5 and meas.wheel_speed_fr_ok > 0.5 and meas.wheel_speed_rl_ok > 0.5
                  and meas.wheel_speed_rr_ok > 0.5)
     if ctl[C_STARTED] < 0.5:
@@ -106,6 +127,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         hst[hba.S_P_PREV] = meas.master_pressure_pa
     decel = abs(min(meas.longitudinal_accel_mps2, 0.0)) + p.esp_reference_decel_margin_mps2
     v_ref = max(v_max, ctl[C_V_REF] - decel * dt)
+    if blown >= 0 and bst[bc.S_T_DET] >= t - 1e-9:
+        v_ref = v_max  # re-seeded at the detection from the intact wheels
     ctl[C_V_REF] = v_ref
     ctl[C_T] = t
 
@@ -193,9 +216,32 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             n_events = log_event(events, n_events, t, m_hba, old, new, reason)
         hba_mode = new
 
+    # blowout compensation (functions/blowout_compensation.py)
+    vw_arr = np.array([vw0, vw1, vw2, vw3])
+    slip_sum = 0.0
+    i_max = 0
+    for i in range(4):
+        if vw_arr[i] > vw_arr[i_max]:
+            i_max = i
+    for i in range(4):
+        if i != i_max:
+            slip_sum += max(wheels[i, A_SLIP], 0.0)
+    inlet_ok = np.array([meas.inlet_valve_fl_ok, meas.inlet_valve_fr_ok, meas.inlet_valve_rl_ok, meas.inlet_valve_rr_ok])
+    blow_req = np.zeros(4, dtype=np.int64)
+    tpms = meas.tpms_alarm_wheel_index if meas.tpms_alarm_wheel_ok > 0.5 else 0.0
+    n_events = bc.blowout_step(bst, vw_arr, v_ref, slip_sum / 3.0 if bls else 0.0, meas.longitudinal_accel_mps2,
+                               meas.yaw_rate_radps, tpms, inlet_ok, p, dt, t, m_blow, events, n_events, blow_req)
+
     # arbitration and the ECU's pressure estimate
     for i in range(4):
         wm = ARBITRATION[hba_mode, int(wheels[i, A_REQUEST])] if abs_ok else W_N
+        if abs_ok and blow_req[i] != bc.Q_NONE:
+            wm = BLOWOUT_ARBITRATION[blow_req[i], wm]
+            src_i = p_mc if i < 2 else _prop(p_mc, p)
+            if blow_req[i] == bc.Q_HOLD and wm == W_HI and src_i > wheels[i, A_P_EST] + 1.0e5:
+                wm = W_N  # the driver asks for more than the compensation holds: the driver's pressure
+            if wm == W_D and wheels[i, A_P_EST] < p.esp_unit_lpa_pressure_pa + 0.5e5:
+                wm = W_HI  # released wheel already empty: keep the inlet closed
         wheels[i, A_WHEEL_MODE] = wm
         src = p_mc if i < 2 else _prop(p_mc, p)
         wheels[i, A_P_EST] = _estimate(wm, wheels[i, A_P_EST], src, dt, p)

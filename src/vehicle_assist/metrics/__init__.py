@@ -4,6 +4,7 @@ from vehicle_assist.metrics import hill_start  # noqa: F401  (registers the pape
 from vehicle_assist.metrics import hill_start_ehb  # noqa: F401  (registers the paper-001 metrics)
 from vehicle_assist.metrics import brake_assist  # noqa: F401  (registers the paper-002 metrics)
 from vehicle_assist.metrics import curve_shift  # noqa: F401  (registers the paper-003 metrics)
+from vehicle_assist.metrics import blowout  # noqa: F401  (registers the paper-004 metrics)
 
 
 def known_metric_names() -> list[str]:

@@ -21,7 +21,9 @@ import numpy as np
 
 from vehicle_assist.conventions import G_MPS2, RHO_AIR_KGPM3
 from vehicle_assist.core.fsm import StateMachine, Transition, log_event
+from vehicle_assist.drivers import lane_keeper as lk
 from vehicle_assist.functions import abs as abs_fn
+from vehicle_assist.functions import blowout_compensation as bc
 from vehicle_assist.functions import brake_assist as hba
 from vehicle_assist.functions import esp
 from vehicle_assist.plant.brakes.booster import booster_step, booster_target_n
@@ -38,7 +40,8 @@ from vehicle_assist.plant.chassis.two_track import (
     yaw_moment,
 )
 from vehicle_assist.plant.sensors import sample_sensors
-from vehicle_assist.plant.tires.model import BURCKHARDT_SETS, tire_forces
+from vehicle_assist.plant.tires import blowout as bo
+from vehicle_assist.plant.tires.model import BURCKHARDT_SETS, MODEL_DUGOFF, peak_mu, tire_forces
 from vehicle_assist.vehicles.common import (
     EVENT_CAPACITY,
     IN_BRAKE_PEDAL,
@@ -61,12 +64,15 @@ SENSORS = tuple(f"wheel_speed_{w}_radps" for w in WHEELS) + (
     "yaw_rate_radps",
     "steering_angle_rad",
     "brake_light_switch_flag",
+    "tpms_alarm_wheel_index",
 )
 MEAS_DTYPE = np.dtype([(n, "f8") for n in SENSORS] + [(n.rsplit("_", 1)[0] + "_ok", "f8") for n in SENSORS]
-                      + [("esp_valves_ok", "f8"), ("return_pump_ok", "f8")])
+                      + [("esp_valves_ok", "f8"), ("return_pump_ok", "f8")]
+                      + [(f"inlet_valve_{w}_ok", "f8") for w in WHEELS])
 EVENT_SIGNALS = ("speed_mps", "position_m", "master_pressure_pa", "pedal_force_n")
 INPUTS = ("brake_pedal", "steering")
-ACTUATORS: tuple[str, ...] = ("esp_valves", "return_pump")  # actuator_fault (unpowered): ABS failed / pump failed
+ACTUATORS: tuple[str, ...] = ("esp_valves", "return_pump") + tuple(f"inlet_valve_{w}" for w in WHEELS)
+# actuator_fault (unpowered): ABS failed / pump failed; inlet_valve_* (any fault): that wheel's inlet stuck closed
 DEFAULT_GEAR_INDEX = 0
 
 _CH = {
@@ -94,6 +100,19 @@ _CH = {
     "master_pressure_rate_pa_per_s": "dp_mc/dt as the HBA computes it (sampled)",
     "pump_on_flag": "return-pump motor running",
     "friction_mu": "road friction scale at the car",
+    "blowout_frac": "deflation phi of the blown tire (0 intact, 1 flat; tire_blowout.md 3 eq. 21)",
+    "blowout_transfer_n": "load transfer f through the suspension diagonals (eqs. 13-20)",
+    "blowout_drag_n": "retarding drag of the blown tire on its rim",
+    "blowout_mode_index": "compensation mode (functions/blowout_compensation.py MODES)",
+    "blowout_detected_wheel_index": "wheel the ECU found blown (-1 none)",
+    "blowout_moment_est_nm": "the ECU's estimate of the added yaw moment M_z_blow (eqs. 22-25)",
+    "blowout_pressure_req_pa": "required opposite-wheel pressure (eq. 28)",
+    "blowout_valve_time_s": "inlet-valve opening time (eq. 30)",
+    "blowout_saturated_flag": "1 if the required pressure exceeds 0.9 p_max (accumulator too low)",
+    "blowout_limit_code": "authority limit: 0 none, 1 opposite inlet stuck (other axle used), 2 no healthy wheel",
+    "yaw_moment_nm": "net yaw moment of the tire forces M_x + M_y (eqs. 9-11)",
+    "lane_offset_m": "lateral offset of the CG from the lane centre (left +)",
+    "lane_heading_error_rad": "heading minus lane heading",
 }
 for _w in WHEELS:
     _CH[f"wheel_speed_{_w}_radps"] = f"wheel speed {_w}"
@@ -115,13 +134,14 @@ MACHINES = (
     StateMachine("vehicle", ("MOVING", "HELD"), (Transition("MOVING", "HELD", "stopped"),)),
     abs_fn.machine("fl"), abs_fn.machine("fr"), abs_fn.machine("rl"), abs_fn.machine("rr"),
     hba.MACHINE,
+    bc.MACHINE,
 )
-M_VEHICLE, M_ABS0, M_HBA = 0, 1, 5
+M_VEHICLE, M_ABS0, M_HBA, M_BLOWOUT = 0, 1, 5, 6
 M_SCENARIO = len(MACHINES)
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def simulate(p, s, noise, meas, ctl, wheels, hst, tr, events):
+def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
     """Run one scenario; arguments as in :func:`vehicle_assist.vehicles.ev_ehb.simulate`."""
     dt = s.plant_step_s
     n_steps = int(round(s.duration_s / dt))
@@ -148,6 +168,21 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, tr, events):
     side_set = np.array([int(p.surface_left), int(p.surface_right), int(p.surface_left), int(p.surface_right)])
     tire_model = int(p.tires_model)
     source_kind = int(p.esp_unit_pressure_source)
+    blown = int(p.blowout_wheel_index)
+    t_blow = 1e18
+    k_sf = bo.series_rate_npm(p.blowout_suspension_rate_front_n_per_m, p.blowout_tire_vertical_rate_n_per_m)
+    k_sr = bo.series_rate_npm(p.blowout_suspension_rate_rear_n_per_m, p.blowout_tire_vertical_rate_n_per_m)
+    follow = int(p.lane_keeper_steering_mode) == lk.FOLLOW
+    lk_delay = int(round(p.lane_keeper_reaction_delay_s / dt))
+    rw = np.full(4, r_w)
+    b_open_s = np.zeros(4)
+    inlet_ok = np.ones(4)
+    phi = 0.0
+    f_tr = 0.0
+    f_bd = 0.0
+    e_y = 0.0
+    e_psi = 0.0
+    delta = 0.0
 
     inputs = np.zeros(5)
     override_on = np.zeros(5, dtype=np.bool_)
@@ -216,9 +251,24 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, tr, events):
                                                override_on, override_value, fault, fault_value, actuator_fault)
         valves_ok = actuator_fault[0, 0] == 0.0
         pump_ok = actuator_fault[1, 0] == 0.0
+        for i in range(4):
+            inlet_ok[i] = 1.0 if actuator_fault[2 + i, 0] == 0.0 else 0.0
         driver_inputs(s, t, override_on, override_value, inputs)  # every step: panic pedals rise in ~10 ms
         f_pedal = max(inputs[IN_BRAKE_PEDAL], 0.0) * p.pedal_full_scale_force_n
-        delta = inputs[IN_STEERING]
+        e_y, e_psi = lk.lane_errors(gx, gy, psi, p.lane_keeper_lane_radius_m)
+        if follow:
+            delta = lk.lane_keeper_step(lkbuf, k, lk_delay, e_y, e_psi, inputs[IN_STEERING], delta if k > 0 else inputs[IN_STEERING],
+                                        p.lane_keeper_lateral_gain_rad_per_m, p.lane_keeper_heading_gain_frac,
+                                        p.lane_keeper_max_steer_rate_radps / p.lane_keeper_steering_ratio, dt)
+        else:
+            delta = inputs[IN_STEERING]
+        # blowout event (time or position) and deflation
+        if blown >= 0 and t_blow > 1e17:
+            if (p.blowout_position_m >= 0.0 and dist >= p.blowout_position_m) or (p.blowout_position_m < 0.0 and t >= p.blowout_time_s):
+                t_blow = t
+        if blown >= 0:
+            phi = bo.deflation_frac(t, t_blow, p.blowout_deflation_time_s)
+            rw[blown] = bo.blown_radius_m(phi, r_w, p.blowout_inner_radius_m)
         bls = f_pedal > p.pedal_light_switch_force_n
 
         if k % ctrl_every == 0:
@@ -230,6 +280,7 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, tr, events):
             truth[7] = r
             truth[8] = delta
             truth[9] = 1.0 if bls else 0.0
+            truth[10] = float(blown + 1) if (blown >= 0 and phi >= p.blowout_tpms_alarm_drop_frac) else 0.0
             sample_sensors(truth, history, tick, noise[min(tick, noise.shape[0] - 1)], s.sensor_noise_std,
                            s.sensor_bias, delay_ticks, fault, fault_value, last, values, ok)
             meas.wheel_speed_fl_radps = values[0]
@@ -252,11 +303,17 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, tr, events):
             meas.yaw_rate_ok = ok[7]
             meas.steering_angle_ok = ok[8]
             meas.brake_light_switch_ok = ok[9]
+            meas.tpms_alarm_wheel_index = values[10]
+            meas.tpms_alarm_wheel_ok = ok[10]
+            meas.inlet_valve_fl_ok = inlet_ok[0]  # the ECU's valve-coil diagnosis
+            meas.inlet_valve_fr_ok = inlet_ok[1]
+            meas.inlet_valve_rl_ok = inlet_ok[2]
+            meas.inlet_valve_rr_ok = inlet_ok[3]
             meas.esp_valves_ok = 1.0 if valves_ok else 0.0  # the ECU's own actuator diagnosis
             meas.return_pump_ok = 1.0 if pump_ok else 0.0
             if tick % esp_every == 0:
                 n_events = esp.esp_step(ctl, wheels, hst, meas, p, p.esp_period_s, t, M_ABS0, M_HBA, events,
-                                        n_events, abs_guards, hba_guards)
+                                        n_events, abs_guards, hba_guards, bst, M_BLOWOUT)
             tick += 1
 
         # ESP unit valves (VALVE_TABLE rows) per circuit (X-split: fl+rr circuit 1, fr+rl circuit 2)
@@ -275,13 +332,16 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, tr, events):
         mu_scale = road_friction_at(s, dist)
         fz[0], fz[1], fz[2], fz[3] = wheel_loads(m, G, l_f, l_r, h, 2.0 * b_f, 2.0 * b_r,
                                                  p.chassis_roll_stiffness_front_frac, a_x, a_y)
+        if blown >= 0 and phi > 0.0:
+            f_tr = bo.transfer_n(blown, fz[0], fz[1], fz[2], fz[3], r_w - rw[blown], k_sf, k_sr)
+            fz[0], fz[1], fz[2], fz[3] = bo.redistributed_loads(blown, fz[0], fz[1], fz[2], fz[3], f_tr)
         sum_x = 0.0
         sum_y = 0.0
         for i in range(4):
             d_i = delta if i < 2 else 0.0
             vl, tan_a = wheel_kinematics(u, v, r, d_i, pos_x[i], pos_y[i])
             vlong[i] = vl
-            sl = braking_slip(vl, omega[i], r_w) if not held else 0.0
+            sl = braking_slip(vl, omega[i], rw[i]) if not held else 0.0
             slip[i] = sl
             c1 = BURCKHARDT_SETS[side_set[i], 0]
             c2 = BURCKHARDT_SETS[side_set[i], 1]
@@ -291,14 +351,23 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, tr, events):
                 fy[i] = 0.0
                 damp[i] = 0.0
             else:
-                fx[i], fy[i] = tire_forces(tire_model, sl, tan_a, fz[i], mu_scale, c1, c2, c3,
-                                           p.tires_longitudinal_stiffness_n, c_y[i])
-                f2, _ = tire_forces(tire_model, min(sl + 1e-4, 1.0), tan_a, fz[i], mu_scale, c1, c2, c3,
-                                    p.tires_longitudinal_stiffness_n, c_y[i])
+                kx = p.tires_longitudinal_stiffness_n
+                ky = c_y[i]
+                if i == blown and phi > 0.0:
+                    kx *= bo.stiffness_factor(phi, p.blowout_longitudinal_stiffness_frac)
+                    ky *= bo.stiffness_factor(phi, p.blowout_cornering_stiffness_frac)
+                fx[i], fy[i] = _tire(tire_model, sl, tan_a, fz[i], mu_scale, c1, c2, c3, kx, ky,
+                                     p.blowout_friction_reduction_coeff, vl)
+                f2, _ = _tire(tire_model, min(sl + 1e-4, 1.0), tan_a, fz[i], mu_scale, c1, c2, c3, kx, ky,
+                              p.blowout_friction_reduction_coeff, vl)
                 ds = min(sl + 1e-4, 1.0) - sl
                 dfds = (f2 - fx[i]) / ds if ds > 0.0 else 0.0
-                damp[i] = r_w * r_w * max(-dfds, 0.0) / max(vl, 1.0)
-            xb[i], yb[i] = body_forces(fx[i], fy[i], d_i)
+                damp[i] = rw[i] * rw[i] * max(-dfds, 0.0) / max(vl, 1.0)
+            fxb = fx[i]
+            if i == blown and phi > 0.0 and not held:
+                f_bd = bo.blown_drag_n(phi, p.blowout_drag_coeff, fz[i], mu_scale * peak_mu(c1, c2, c3))
+                fxb -= f_bd if vl > 0.0 else 0.0
+            xb[i], yb[i] = body_forces(fxb, fy[i], d_i)
             sum_x += xb[i]
             sum_y += yb[i]
             locked[i] = omega[i] <= 0.0 and u > STOP_SPEED_MPS
@@ -334,6 +403,19 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, tr, events):
             row.master_pressure_rate_pa_per_s = hst[hba.S_RATE]
             row.pump_on_flag = 1.0 if (pump_on and pump_ok) else 0.0
             row.friction_mu = mu_scale
+            row.blowout_frac = phi
+            row.blowout_transfer_n = f_tr
+            row.blowout_drag_n = f_bd
+            row.blowout_mode_index = bst[bc.S_MODE]
+            row.blowout_detected_wheel_index = bst[bc.S_BLOWN]
+            row.blowout_moment_est_nm = bst[bc.S_M_EST]
+            row.blowout_pressure_req_pa = bst[bc.S_P_REQ]
+            row.blowout_valve_time_s = bst[bc.S_T_VALVE]
+            row.blowout_saturated_flag = bst[bc.S_SATURATED]
+            row.blowout_limit_code = bst[bc.S_LIMIT_CODE]
+            row.yaw_moment_nm = m_z
+            row.lane_offset_m = e_y
+            row.lane_heading_error_rad = e_psi
             row.usv_closed_c1_flag = valve[0]
             row.hsv_open_c1_flag = valve[1]
             row.usv_closed_c2_flag = valve[2]
@@ -390,8 +472,14 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, tr, events):
         for i in range(4):
             psrc[i] = p_mc if i < 2 else p_rear
             wm = int(wheels[i, esp.A_WHEEL_MODE]) if valves_ok else 0
+            if inlet_ok[i] < 0.5 and VALVE_TABLE[wm, 2] > 0.0 and VALVE_TABLE[wm, 3] < 0.5:
+                wm = 3  # inlet stuck closed: whatever opens the inlet only holds (H)
+            # accumulator source (EHB of paper 004): the inlet passes nothing for the dead time t0 (eq. 29)
+            b_open_s[i] = b_open_s[i] + dt if (wm == 1 or wm == 5) else 0.0
             rate = source_rate_pa_per_s(source_kind, pw[i], p.esp_unit_pump_build_rate_pa_per_s, p.esp_unit_pump_relief_pa,
                                         p.esp_unit_accumulator_pa, p.esp_unit_accumulator_time_constant_s, pump_ok)
+            if source_kind == 1 and b_open_s[i] <= p.esp_unit_inlet_dead_time_s:
+                rate = 0.0
             pw[i] = wheel_pressure_step(wm, pw[i], psrc[i], dt, p.esp_unit_line_time_constant_s, rate,
                                         p.esp_unit_pump_relief_pa, p.esp_unit_pulse_duty_frac,
                                         p.esp_unit_dump_time_constant_s, p.esp_unit_lpa_pressure_pa,
@@ -400,7 +488,7 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, tr, events):
             continue
         # wheels (brake torque capacity K_b*p) and body
         for i in range(4):
-            omega[i], _lk = wheel_spin_step(omega[i], gain[i] * max(pw[i], 0.0), fx[i], damp[i], r_w, j_w, dt)
+            omega[i], _lk = wheel_spin_step(omega[i], gain[i] * max(pw[i], 0.0), fx[i], damp[i], rw[i], j_w, dt)
         a_x = a_x_new
         a_y = a_y_new
         du = a_x + v * r
@@ -427,6 +515,15 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, tr, events):
     return n_rec, n_events
 
 
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def _tire(model, slip, tan_a, fz, scale, c1, c2, c3, cx, cy, eps_r, u_w):
+    """tire_forces, with the Dugoff friction reduction with slip speed (tire_blowout.md 2.3) when eps_r > 0."""
+    if model == MODEL_DUGOFF and eps_r > 0.0:
+        fxm, fyv = bo.dugoff_full(slip, tan_a, fz, scale * peak_mu(c1, c2, c3), cx, cy, eps_r, u_w)
+        return -fxm, fyv
+    return tire_forces(model, slip, tan_a, fz, scale, c1, c2, c3, cx, cy)
+
+
 def gear_names(model) -> list[str]:
     return ["D"]
 
@@ -448,9 +545,9 @@ def derived(flat: dict) -> dict:
 def controller_states() -> tuple:
     meas = np.zeros(1, dtype=MEAS_DTYPE).view(np.recarray)
     ctl, wheels, hst = esp.initial_state()
-    return meas[0], ctl, wheels, hst
+    return meas[0], ctl, wheels, hst, bc.initial_state(), lk.initial_buffer()
 
 
 def run_kernel(p, s, noise, trace, events):
-    meas, ctl, wheels, hst = controller_states()
-    return simulate(p, s, noise, meas, ctl, wheels, hst, trace, events)
+    meas, ctl, wheels, hst, bst, lkbuf = controller_states()
+    return simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, trace, events)

@@ -99,6 +99,7 @@ class SedanEspUnit(Strict):
     exit_rate_bar_per_s: Annotated[float, Field(gt=0, le=5000)]
     accumulator_bar: Annotated[float, Field(gt=0, le=400)]
     accumulator_time_constant_s: Annotated[float, Field(gt=0, le=1)]
+    inlet_dead_time_s: Annotated[float, Field(ge=0, le=0.1)]  # accumulator source only (paper 004 eq. 29 t0)
 
 
 class SedanEsp(Strict):
@@ -152,6 +153,60 @@ class SedanBrakeAssist(Strict):
         return self
 
 
+class SedanBlowout(Strict):
+    """Tire-blowout event and blown-tire properties (plant/tires/blowout.py; tire_blowout.md 3, 6)."""
+
+    wheel_index: Annotated[int, Field(ge=-1, le=3)]  # -1 no blowout; 0 fl, 1 fr, 2 rl, 3 rr
+    time_s: Annotated[float, Field(ge=0, le=1000)]
+    position_m: Annotated[float, Field(ge=-1, le=1e5)]  # >= 0: at this distance travelled (then time_s is unused)
+    deflation_time_s: Annotated[float, Field(ge=0, le=5)]
+    inner_radius_m: Annotated[float, Field(gt=0.1, le=0.6)]
+    cornering_stiffness_frac: Annotated[float, Field(gt=0, le=1)]
+    longitudinal_stiffness_frac: Annotated[float, Field(gt=0, le=1)]
+    drag_coeff: Annotated[float, Field(ge=0, le=1.5)]
+    suspension_rate_front_n_per_m: Annotated[float, Field(gt=1e3, le=1e6)]
+    suspension_rate_rear_n_per_m: Annotated[float, Field(gt=1e3, le=1e6)]
+    tire_vertical_rate_n_per_m: Annotated[float, Field(ge=0, le=1e7)]  # 0: rigid tire (the paper's form)
+    friction_reduction_coeff: Annotated[float, Field(ge=0, le=0.1)]  # Dugoff eps_r [s/m]
+    tpms_alarm_drop_frac: Annotated[float, Field(gt=0, lt=1)]
+
+
+class SedanBlowoutCompensation(Strict):
+    """Blowout compensation by differential braking in the ESP controller (functions/blowout_compensation.py)."""
+
+    enabled_flag: Annotated[int, Field(ge=0, le=1)]
+    detection: Literal["wheel_speeds", "tpms", "both"]
+    detection_delay_s: Annotated[float, Field(ge=0, le=2)]
+    wheel_speed_threshold_frac: Annotated[float, Field(gt=0, lt=1)]
+    min_speed_kph: Annotated[float, Field(ge=0, le=100)]
+    mu_estimate_frac: Annotated[float, Field(gt=0, le=1.5)]
+    blow_drag_frac: Annotated[float, Field(ge=0, le=1)]
+    valve_dead_time_s: Annotated[float, Field(ge=0, le=0.1)]
+    valve_t1_s: Annotated[float, Field(gt=0, le=1)]
+    valve_t2_s: Annotated[float, Field(gt=0, le=2)]
+    closed_loop_flag: Annotated[int, Field(ge=0, le=1)]
+    yaw_deadband_deg_per_s: Annotated[float, Field(gt=0, le=30)]
+    abort_yaw_rate_deg_per_s: Annotated[float, Field(gt=0, le=90)]
+
+    @model_validator(mode="after")
+    def _order(self):
+        if not self.valve_dead_time_s < self.valve_t1_s < self.valve_t2_s:
+            raise ValueError("need valve_dead_time_s < valve_t1_s < valve_t2_s (tire_blowout.md 5, eq. 29)")
+        return self
+
+
+class SedanLaneKeeper(Strict):
+    """Driver steering (drivers/lane_keeper.py): hold the wheel fixed, or follow the lane with a reaction delay."""
+
+    steering_mode: Literal["fixed", "follow"]
+    reaction_delay_s: Annotated[float, Field(ge=0, le=2)]
+    lateral_gain_rad_per_m: Annotated[float, Field(ge=0, le=1)]
+    heading_gain_frac: Annotated[float, Field(ge=0, le=5)]
+    steering_ratio: Annotated[float, Field(gt=1, le=40)]
+    lane_radius_m: Annotated[float, Field(ge=0, le=1e5)]  # 0: straight lane
+    max_steer_rate_radps: Annotated[float, Field(gt=0, le=20)]
+
+
 class SedanEspVehicle(Strict):
     name: str
     layout: Literal["sedan_esp"]
@@ -168,8 +223,13 @@ class SedanEspVehicle(Strict):
     esp_unit: SedanEspUnit
     esp: SedanEsp
     brake_assist: SedanBrakeAssist
+    blowout: SedanBlowout
+    blowout_compensation: SedanBlowoutCompensation
+    lane_keeper: SedanLaneKeeper
 
 
 CODES = {"model": {"burckhardt": 0.0, "dugoff": 1.0},
          "left": {"dry": 0.0, "wet": 1.0, "snow": 2.0}, "right": {"dry": 0.0, "wet": 1.0, "snow": 2.0},
-         "pressure_source": {"return_pump": 0.0, "accumulator": 1.0}}
+         "pressure_source": {"return_pump": 0.0, "accumulator": 1.0},
+         "detection": {"wheel_speeds": 0.0, "tpms": 1.0, "both": 2.0},
+         "steering_mode": {"fixed": 0.0, "follow": 1.0}}

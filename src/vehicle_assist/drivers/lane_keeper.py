@@ -1,0 +1,61 @@
+"""Driver steering for the blowout tests (paper 004; issue #10): hold the wheel or follow the lane.
+
+* ``fixed`` (the paper's test, tire_blowout.md 6): the driver holds the steering wheel where the script puts
+  it (straight: delta = 0); the scripted steering input is used unchanged.
+* ``follow``: a compensatory lane keeper with a reaction delay tau (the driver acts on what was seen tau
+  ago): delta = delta_script - (k_y*e_y(t - tau) + k_psi*e_psi(t - tau)) / i_s ... written at the road wheels:
+
+      delta = delta_script - k_y*e_y(t - tau) - k_psi*e_psi(t - tau)
+
+  e_y = lateral offset of the CG from the lane centre (left +), e_psi = heading minus the lane heading; the
+  change of delta is limited to the driver's steering-wheel rate / steering ratio. The lane is a straight
+  line (y = 0) or a circle of radius R (left turn, starting tangent to +x at the origin).
+  Structure: compensatory (feedback) driver with a dead time, McRuer-Krendel crossover model class
+  (McRuer & Krendel 1974, NATO AGARDograph 188; cite, not read here). Numbers in the vehicle file are
+  assumed (sources there).
+"""
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+FIXED, FOLLOW = 0, 1
+BUFFER = 4096  # delay line length (samples at the plant step; 2 s at 0.5 ms)
+
+
+def initial_buffer() -> np.ndarray:
+    return np.zeros((BUFFER, 2))
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def lane_errors(gx, gy, psi, lane_radius_m):
+    """(e_y left +, e_psi) of the CG relative to the lane (straight if lane_radius_m <= 0)."""
+    if lane_radius_m <= 0.0:
+        return gy, math.atan2(math.sin(psi), math.cos(psi))
+    cx, cy = 0.0, lane_radius_m  # centre of the left-hand circle
+    dx = gx - cx
+    dy = gy - cy
+    dist = math.sqrt(dx * dx + dy * dy)
+    e_y = lane_radius_m - dist  # inside the circle (left of the lane) +
+    lane_heading = math.atan2(dy, dx) + 0.5 * math.pi
+    e = psi - lane_heading
+    return e_y, math.atan2(math.sin(e), math.cos(e))
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def lane_keeper_step(buf, k, delay_steps, e_y, e_psi, delta_script, delta_prev, k_y, k_psi, max_rate_radps, dt):
+    """Road-wheel steer angle of the follow driver at step k (buf: delay line of (e_y, e_psi))."""
+    n = buf.shape[0]
+    buf[k % n, 0] = e_y
+    buf[k % n, 1] = e_psi
+    d = min(delay_steps, n - 1)
+    j = k - d
+    if j < 0:
+        ey_seen, ep_seen = 0.0, 0.0
+    else:
+        ey_seen, ep_seen = buf[j % n, 0], buf[j % n, 1]
+    target = delta_script - k_y * ey_seen - k_psi * ep_seen
+    step = max_rate_radps * dt
+    return min(max(target, delta_prev - step), delta_prev + step)

@@ -1,0 +1,157 @@
+"""Metrics of the tire-blowout compensation (paper 004; tire_blowout.md 9; issue #10).
+
+``t_b`` = the blowout time: the first sample with ``blowout_frac > 0`` (one record period early at most); in a
+run without a blowout (false-detection fault) the first sample with the compensation active, else 1 s (the
+blowout time of every shipped scenario). Windows follow spec 9.5: yaw rate over [t_b, t_b + 2 s], path at
+t_b + 3 s. Offsets are changes of the lane offset/heading error since t_b (a curve run starts off-centre).
+
+Lane departure: the car leaves its lane when its offset exceeds (lane width - car width)/2 with a lane of
+3.75 m (std: JTG B01-2014, China highway standard, lane width 3.75 m on expressways and class-1 highways)
+and the BJ2500's width 1.794 m (cite:J2500, tire_blowout.md 7): 0.978 m.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from vehicle_assist.core.trace import Trace
+from vehicle_assist.metrics.common import Metric, register
+
+LANE_WIDTH_M = 3.75  # std: JTG B01-2014
+CAR_WIDTH_M = 1.794  # cite:J2500 (tire_blowout.md 7)
+LANE_MARGIN_M = 0.5 * (LANE_WIDTH_M - CAR_WIDTH_M)
+YAW_WINDOW_S = 2.0  # tire_blowout.md 9.5
+PATH_TIME_S = 3.0  # tire_blowout.md 9.5
+DEFAULT_BLOWOUT_S = 1.0
+W = ("fl", "fr", "rl", "rr")
+
+
+def _rows(trace: Trace, name: str) -> np.ndarray:
+    return np.atleast_2d(np.asarray(trace[name], dtype=np.float64))
+
+
+def _time(trace: Trace) -> np.ndarray:
+    t = np.asarray(trace["time_s"], dtype=np.float64)
+    return t[0] if t.ndim == 2 else t
+
+
+def _per_row(fn, names):
+    def metric(trace: Trace):
+        t = _time(trace)
+        cols = [_rows(trace, n) for n in names]
+        out = np.array([fn(t, *[c[i] for c in cols]) for i in range(cols[0].shape[0])], dtype=float)
+        return out if trace.batch_size is not None else float(out[0]) + 0.0
+    return metric
+
+
+def blowout_time_s(t, phi, mode):
+    idx = np.flatnonzero(phi > 0.0)
+    if idx.size:
+        return float(t[max(idx[0] - 1, 0)])
+    idx = np.flatnonzero(mode > 0.0)
+    return float(t[idx[0]]) if idx.size else DEFAULT_BLOWOUT_S
+
+
+def _window(t, t0, t1):
+    return (t >= t0 - 1e-9) & (t <= t1 + 1e-9)
+
+
+def _yaw_peak(t, phi, mode, r):
+    tb = blowout_time_s(t, phi, mode)
+    w = _window(t, tb, tb + YAW_WINDOW_S)
+    return float(np.max(np.abs(r[w]))) if np.any(w) else 0.0
+
+
+def _yaw_rms(t, phi, mode, r):
+    tb = blowout_time_s(t, phi, mode)
+    w = _window(t, tb, tb + YAW_WINDOW_S)
+    return float(np.sqrt(np.mean(r[w] ** 2))) if np.any(w) else 0.0
+
+
+def _at(t, x, tq):
+    return float(np.interp(min(tq, t[-1]), t, x))
+
+
+def _dev_3s(t, phi, mode, e):
+    tb = blowout_time_s(t, phi, mode)
+    return abs(_at(t, e, tb + PATH_TIME_S) - _at(t, e, tb))
+
+
+def _dev_max(t, phi, mode, e):
+    tb = blowout_time_s(t, phi, mode)
+    w = _window(t, tb, tb + PATH_TIME_S)
+    return float(np.max(np.abs(e[w] - _at(t, e, tb)))) if np.any(w) else 0.0
+
+
+def _departure(t, phi, mode, e):
+    return float(_dev_max(t, phi, mode, e) > LANE_MARGIN_M)
+
+
+def _decel(t, phi, mode, a):
+    tb = blowout_time_s(t, phi, mode)
+    w = _window(t, tb, tb + YAW_WINDOW_S)
+    return float(-np.mean(a[w])) if np.any(w) else 0.0
+
+
+def _detect_time(t, phi, mode, det):
+    tb = blowout_time_s(t, phi, mode)
+    idx = np.flatnonzero(det >= 0.0)
+    return float(t[idx[0]] - tb) if idx.size else float("inf")
+
+
+def _blown_pressure(t, det, p0, p1, p2, p3):
+    idx = np.flatnonzero(det >= 0.0)
+    if not idx.size:
+        return 0.0
+    b = int(det[idx[-1]])
+    return float(np.max((p0, p1, p2, p3)[b][idx[0]:]))
+
+
+def _opposite_pressure(t, det, p0, p1, p2, p3):
+    idx = np.flatnonzero(det >= 0.0)
+    if not idx.size:
+        return 0.0
+    b = int(det[idx[-1]])
+    return float(np.max((p0, p1, p2, p3)[(1, 0, 3, 2)[b]][idx[0]:]))
+
+
+def _balance(t, phi, mode, det, tv, m_est, m_z):
+    """Criterion 6: max |net yaw moment| / |M_z_blow estimate| after t_det + t_valve + 0.1 s (pressure settled)
+    to t_b + 2 s."""
+    idx = np.flatnonzero(det >= 0.0)
+    if not idx.size or abs(m_est[-1]) < 1.0:
+        return float("nan")
+    tb = blowout_time_s(t, phi, mode)
+    t0 = t[idx[0]] + tv[-1] + 0.1
+    w = _window(t, t0, tb + YAW_WINDOW_S)
+    return float(np.max(np.abs(m_z[w])) / abs(m_est[-1])) if np.any(w) else float("nan")
+
+
+_BASE = ("blowout_frac", "blowout_mode_index")
+PRESSURES = tuple(f"wheel_pressure_{w}_pa" for w in W)
+_DEFS = [
+    ("blowout_yaw_rate_peak_radps", _yaw_peak, _BASE + ("yaw_rate_radps",), "peak |yaw rate| in [t_b, t_b + 2 s]"),
+    ("blowout_yaw_rate_rms_radps", _yaw_rms, _BASE + ("yaw_rate_radps",), "RMS yaw rate in [t_b, t_b + 2 s]"),
+    ("blowout_lateral_deviation_3s_m", _dev_3s, _BASE + ("lane_offset_m",), "|lane offset change| at t_b + 3 s"),
+    ("blowout_lateral_deviation_max_m", _dev_max, _BASE + ("lane_offset_m",), "max |lane offset change| in [t_b, t_b + 3 s]"),
+    ("blowout_heading_error_3s_rad", _dev_3s, _BASE + ("lane_heading_error_rad",), "|heading error change| at t_b + 3 s"),
+    ("blowout_lane_departure_flag", _departure, _BASE + ("lane_offset_m",),
+     "1 if the offset exceeds (3.75 m lane - 1.794 m car)/2 within 3 s"),
+    ("blowout_decel_mean_mps2", _decel, _BASE + ("accel_mps2",), "mean deceleration in [t_b, t_b + 2 s]"),
+    ("blowout_detection_time_s", _detect_time, _BASE + ("blowout_detected_wheel_index",), "detection time after t_b"),
+    ("blowout_detected_wheel_index", lambda t, d: float(np.max(d)), ("blowout_detected_wheel_index",),
+     "wheel found blown (-1 none)"),
+    ("blowout_moment_est_nm", lambda t, m: float(m[-1]), ("blowout_moment_est_nm",), "ECU estimate of M_z_blow"),
+    ("blowout_pressure_req_pa", lambda t, p: float(np.max(p)), ("blowout_pressure_req_pa",), "required pressure (eq. 28)"),
+    ("blowout_valve_time_s", lambda t, v: float(np.max(v)), ("blowout_valve_time_s",), "valve-opening time (eq. 30)"),
+    ("blowout_saturated_flag", lambda t, v: float(np.max(v)), ("blowout_saturated_flag",), "accumulator too low"),
+    ("blowout_limit_code", lambda t, v: float(np.max(v)), ("blowout_limit_code",), "authority limit reason code"),
+    ("blowout_blown_wheel_pressure_max_pa", _blown_pressure, ("blowout_detected_wheel_index",) + PRESSURES,
+     "largest pressure of the blown wheel after detection (criterion 3: not braked)"),
+    ("blowout_opposite_pressure_max_pa", _opposite_pressure, ("blowout_detected_wheel_index",) + PRESSURES,
+     "largest pressure of the opposite wheel after detection"),
+    ("blowout_balance_ratio_frac", _balance,
+     _BASE + ("blowout_detected_wheel_index", "blowout_valve_time_s", "blowout_moment_est_nm", "yaw_moment_nm"),
+     "criterion 6: max |net yaw moment| / |M_z_blow| after the build"),
+]
+for _name, _fn, _names, _doc in _DEFS:
+    register(Metric(_name, _per_row(_fn, _names), _names, _doc))
