@@ -38,7 +38,7 @@ and the engine so that the truck neither rolls back nor stalls, with little clut
   | valve not holding (lamp goes out while energised: the driver's hand valve is releasing the brake) | drive on: keep the slip-engagement law running, so drive force builds as fast as the engine allows |
   | engine speed lost before the release command | hold: valve stays energised (park brake applied), clutch opens |
   | engine speed lost after the release command (the park force may already be falling) | drive on, at the slow engagement rate (no engine-speed feedback) |
-  | park brake not released (stuck valve, lamp still on after the timeout, truck standing) | hold: clutch opens against the applied park brake |
+  | park brake not released (stuck valve, slow chamber fill: lamp still on after the timeout, truck standing) | hold: 3/2 valve energised again (the spring brake re-applies), the clutch keeps resisting until the brake has been back on for the refusal delay, then opens |
   | grade beyond the engine torque: even at full pedal (HOLD), or at the driver's pedal for 1 s at the release point (ENGAGE_HELD), the engine's best governed torque above the launch speed is below margin x the estimated holding torque | hold: the park brake stays applied, clutch open; the driver must choose a lower gear, press further and retry, or give up |
   | grade beyond the park brake / adhesion: the truck slides back on the applied park brake (HOLD, APPROACH, ENGAGE_HELD), or rolls back after the release although the clutch delivered more than the estimated resistance (driven tandem at its adhesion limit) | catch, then hold |
   | rollback caught (after the release the truck moved backwards, or the engine was pulled below the guard after DONE) | catch: 3/2 valve energised (spring brake re-applies), clutch held while the engine runs above the guard; hold once the truck stands |
@@ -254,7 +254,8 @@ def _resist(p, c, x, m, engine_ok, park_applied, x_ceiling, dt):
     if m.vehicle_speed_mps < 0.0:
         return min(max(x + p.hill_start_assist_approach_rate_per_s * dt, p.clutch_kiss_point_frac),
                    max(x_ceiling, x))
-    if park_applied and c.standing_time_s >= p.hill_start_assist_refusal_delay_s:
+    if (park_applied and c.standing_time_s >= p.hill_start_assist_refusal_delay_s
+            and c.mode_time_s >= p.hill_start_assist_refusal_delay_s):  # the re-applied brake had time to exhaust
         return x - p.hill_start_assist_back_off_rate_per_s * dt
     return x
 
@@ -405,6 +406,13 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
                 c.stand_down_action = STAND_DOWN_DRIVE_ON
             elif guard == G_BEYOND_PARK or guard == G_BEYOND_ADHESION:
                 c.stand_down_action = STAND_DOWN_RESIST
+            elif guard == G_NOT_RELEASED:
+                # the chambers fill too slowly (restricted line, stuck relay valve) or not at all: re-apply the spring
+                # brake through the 3/2 valve and keep the clutch resisting until it is back on. Opening the clutch
+                # with the valve de-energised let a slowly filling brake release later under an open clutch
+                # (review of issue 7: 175-339 m rollback with tau_fill 4-10 s, none without the assist)
+                c.stand_down_action = STAND_DOWN_RESIST
+                c.valve_command_flag = 1.0
             else:
                 c.stand_down_action = STAND_DOWN_HOLD
             for k in range(len(REFUSAL_GUARDS)):
