@@ -78,6 +78,10 @@ def test_opendrive_hook_errors(tmp_path):
         va.load_scenario("hba_paper_110kph_dry", ['road.opendrive="curve_r65.xodr"'])
     with pytest.raises(InputError, match="cannot read"):
         va.load_scenario("curve_s80", ['road.opendrive="no_such_road.xodr"'])
+    with pytest.raises(InputError, match="cannot read"):  # a directory is not a road file
+        va.load_scenario("curve_s80", [f'road.opendrive="{tmp_path}"'])
+    with pytest.raises(InputError, match="NUL"):
+        va.load_scenario("curve_s80", ['road.opendrive="a\u0000b.xodr"'])
 
 
 def test_cli_run_accepts_xodr(tmp_path):

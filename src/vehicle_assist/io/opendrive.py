@@ -385,10 +385,14 @@ def read_opendrive(path: str | Path, road_id: str | None = None) -> OpenDriveRoa
     path = Path(path)
     try:
         size = path.stat().st_size
-        if not path.is_file():
-            raise OpenDriveError(f"{path}: not a regular file")
-        if size > MAX_FILE_BYTES:
-            raise OpenDriveError(f"{path}: {size} bytes; OpenDRIVE files of at most {MAX_FILE_BYTES} bytes are read")
+        regular = path.is_file()
+    except (OSError, ValueError) as exc:
+        raise OpenDriveError(f"{path}: cannot read ({getattr(exc, 'strerror', None) or exc})") from None
+    if not regular:
+        raise OpenDriveError(f"{path}: cannot read it (not a regular file); give a .xodr file")
+    if size > MAX_FILE_BYTES:
+        raise OpenDriveError(f"{path}: {size} bytes; OpenDRIVE files of at most {MAX_FILE_BYTES} bytes are read")
+    try:
         data = path.read_bytes()
     except OSError as exc:
         raise OpenDriveError(f"{path}: cannot read ({exc.strerror or exc})") from None

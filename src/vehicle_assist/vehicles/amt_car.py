@@ -453,6 +453,10 @@ def scenario_record(sc, where: str) -> dict:
     from vehicle_assist.io.opendrive import OpenDriveError
     from vehicle_assist.scenarios.errors import InputError
 
+    from vehicle_assist.scenarios.guards import check_path_text
+
+    if sc.model.road.opendrive is not None:
+        check_path_text(sc.model.road.opendrive, f"{where}: road.opendrive")
     try:
         geo = road_geometry(sc)
     except OpenDriveError as exc:
