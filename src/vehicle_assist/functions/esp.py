@@ -127,8 +127,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         hst[hba.S_P_PREV] = meas.master_pressure_pa
     decel = abs(min(meas.longitudinal_accel_mps2, 0.0)) + p.esp_reference_decel_margin_mps2
     v_ref = max(v_max, ctl[C_V_REF] - decel * dt)
-    if blown >= 0 and bst[bc.S_T_DET] >= t - 1e-9:
-        v_ref = v_max  # re-seeded at the detection from the intact wheels
+    if blown >= 0 and t - bst[bc.S_T_DET] <= dt + 1e-9:
+        v_ref = v_max  # re-seeded from the intact wheels in the period after the detection
     ctl[C_V_REF] = v_ref
     ctl[C_T] = t
 

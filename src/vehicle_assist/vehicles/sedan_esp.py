@@ -341,6 +341,8 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
             d_i = delta if i < 2 else 0.0
             vl, tan_a = wheel_kinematics(u, v, r, d_i, pos_x[i], pos_y[i])
             vlong[i] = vl
+            if not held and vl > 0.0 and omega[i] * rw[i] > vl:
+                omega[i] = vl / rw[i]  # no drive torque on these wheels: an over-speeding wheel rolls with the ground
             sl = braking_slip(vl, omega[i], rw[i]) if not held else 0.0
             slip[i] = sl
             c1 = BURCKHARDT_SETS[side_set[i], 0]
