@@ -5,12 +5,12 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 OUT ?= out
 
-.PHONY: setup warm demo test test-slow bench clean
+.PHONY: setup warm browser demo test test-slow bench clean
 
 $(STAMP): pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[dev]'
+	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[dev,mdf]'
 	touch $(STAMP)
 
 setup: $(STAMP)
@@ -23,7 +23,14 @@ demo: $(STAMP)
 warm: $(STAMP)
 	$(BIN)/python -c "import vehicle_assist as va; [va.simulate(va.load_scenario(n, ['run.duration_s=0.1'])) for n in ('hsa_truck_full_14deg_8p0bar', 'hsa_ev_5deg_paper', 'hba_paper_110kph_dry', 'curve_s80')]"
 
-test: warm
+# a real headless browser for the report test (tests/report/test_browser.py): Debian's chromium, installed only
+# if missing and only when running as root (CI containers); otherwise that test skips and says why
+browser:
+	@command -v chromium >/dev/null 2>&1 || [ "$$(id -u)" != 0 ] || ! command -v apt-get >/dev/null 2>&1 || \
+		(apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends chromium >/dev/null) || \
+		echo "chromium not installed; the browser test will skip"
+
+test: warm browser
 	$(BIN)/python -m pytest -q -n 2
 
 test-slow: warm

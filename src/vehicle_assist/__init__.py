@@ -1,97 +1,127 @@
 """vehicle-assist: design, simulate, calibrate and verify vehicle assistance functions.
 
-Python API::
+Python API (everything here is typed; ``py.typed`` ships with the package)::
 
     import vehicle_assist as va
-    sc = va.load_scenario("truck_11deg_early_release", sets=["vehicle.body.mass_kg=30000"])
-    result = va.simulate(sc)
-    result.trace.to_pandas(); result.metrics; result.events
+    sc = va.load_scenario("hsa_truck_full_14deg_8p0bar", {"vehicle.body.mass_kg": 20000, "run.duration_s": 10})
+    result = va.simulate(sc)                 # Result: trace, metrics, events, checks, requirements
+    df = result.to_pandas()                  # the trace as a DataFrame (units in df.attrs["units"])
+    batch = va.simulate_batch([sc.with_sets(f"road.slope_deg={a}") for a in (8, 10, 12)])
+    batch.to_pandas()                        # one row per variant: its overrides, metrics and checks_ok
+    trace = va.read_run("out/run")           # a run directory, trace.parquet, trace.csv or trace.mf4
+
+Importing the package has no process-wide effect besides pointing numba's compile cache at the package's
+own directory (``NUMBA_CACHE_DIR``, only if the caller has not set a writable one; see ``_cache.py``).
+Old cache versions are pruned when the first run starts. ``OPENBLAS_NUM_THREADS=1`` (idle BLAS threads
+slow batches on small machines) is set by the command line only; API users who run big batches may set
+it themselves before importing numpy.
 """
-import os as _os
+from __future__ import annotations
 
-# The compiled kernels use no BLAS; OpenBLAS's idle worker threads spin and steal the cores that batch
-# runs need (measured: ~15 % slower batches on 2 cores). Only effective if numpy is not imported yet.
-_os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+import json as _json
+from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Callable
 
+from vehicle_assist import _cache
 
-def _numba_cache_dir() -> str:
-    """A compile-cache directory per version of this package's source.
+_cache.configure()
 
-    numba keys a cached function on its own file only: a kernel that calls a controller in another file
-    keeps running the old controller from the cache after the controller is edited. Keying the whole
-    cache on a hash of every source file of the package makes any edit recompile everything (measured:
-    hashing the ~50 files takes ~2 ms)."""
-    import hashlib
-    from pathlib import Path
-
-    root = Path(__file__).resolve().parent
-    digest = hashlib.sha256()
-    for path in sorted(root.rglob("*.py")):
-        digest.update(path.relative_to(root).as_posix().encode())
-        digest.update(path.read_bytes())
-    base = _os.environ.get("XDG_CACHE_HOME") or _os.path.join(_os.path.expanduser("~"), ".cache")
-    parent = Path(base) / "vehicle-assist" / "numba"
-    target = parent / digest.hexdigest()[:16]
-    try:
-        if not target.exists() and parent.is_dir():  # a new source version: keep the 4 newest older caches
-            import shutil
-
-            old = sorted((d for d in parent.iterdir() if d.is_dir()), key=lambda d: d.stat().st_mtime, reverse=True)
-            for stale in old[4:]:
-                shutil.rmtree(stale, ignore_errors=True)
-    except OSError:
-        pass
-    if _writable(target):
-        return str(target)
-    # a read-only home or install (container, shared site-packages): a private temporary cache instead
-    import sys
-    import tempfile
-
-    uid = getattr(_os, "getuid", lambda: "user")()
-    fallback = Path(tempfile.gettempdir()) / f"vehicle-assist-numba-{uid}" / digest.hexdigest()[:16]
-    if _writable(fallback):
-        print(f"warning: compile cache {target} is not writable; using {fallback}", file=sys.stderr)
-        return str(fallback)
-    fallback = Path(tempfile.mkdtemp(prefix="vehicle-assist-numba-"))
-    print(f"warning: compile cache {target} is not writable; using {fallback} (compiled code is not kept)", file=sys.stderr)
-    return str(fallback)
-
-
-def _writable(directory) -> bool:
-    """True if ``directory`` exists or can be created and a file can be created in it."""
-    import tempfile
-
-    try:
-        _os.makedirs(directory, exist_ok=True)
-        with tempfile.TemporaryFile(dir=directory):
-            pass
-        return True
-    except OSError:
-        return False
-
-
-if "NUMBA_CACHE_DIR" not in _os.environ or not _writable(_os.environ["NUMBA_CACHE_DIR"]):
-    # an explicit, writable setting (benchmarks, CI) wins; an unwritable one would crash numba's cache
-    _os.environ["NUMBA_CACHE_DIR"] = _numba_cache_dir()
-    import sys as _sys
-
-    if "numba" in _sys.modules:  # numba already imported by the caller: set its config directly
-        _sys.modules["numba"].config.CACHE_DIR = _os.environ["NUMBA_CACHE_DIR"]
+if TYPE_CHECKING:  # pragma: no cover
+    from vehicle_assist.core.trace import Event, Trace
+    from vehicle_assist.scenarios.loader import LoadedScenario, Vehicle
+    from vehicle_assist.scenarios.runner import BatchResult, Result
 
 __version__ = "0.1.0"
 
+Overrides = Mapping[str, Any] | Sequence[str]
 
-def __getattr__(name):
-    # lazy API: importing the package stays cheap (no numba compile until a run is asked for)
-    if name in ("load_scenario", "load_vehicle"):
-        from vehicle_assist.scenarios import loader
 
-        return getattr(loader, name)
-    if name in ("simulate", "simulate_batch"):
+def _flatten(prefix: str, value: Any, out: list[str]) -> None:
+    if isinstance(value, Mapping):
+        for k, v in value.items():
+            _flatten(f"{prefix}.{k}" if prefix else str(k), v, out)
+        return
+    if isinstance(value, tuple):
+        value = list(value)
+    if hasattr(value, "item") and not isinstance(value, (list, str)):  # numpy scalar
+        value = value.item()
+    out.append(f"{prefix}={_json.dumps(value)}")
+
+
+def as_sets(overrides: Overrides | None) -> list[str]:
+    """Overrides as ``dotted.path=value`` strings: a dict ``{"vehicle.body.mass_kg": 20000}`` (values as
+    numbers, strings, booleans or lists; nested dicts are flattened), or already a list of such strings."""
+    if overrides is None:
+        return []
+    if isinstance(overrides, str):
+        return [overrides]
+    if isinstance(overrides, Mapping):
+        out: list[str] = []
+        _flatten("", overrides, out)
+        return out
+    return [str(s) for s in overrides]
+
+
+def load_scenario(name_or_path: str | Path, overrides: Overrides | None = None, *,
+                  sets: Overrides | None = None) -> LoadedScenario:
+    """Load a shipped scenario (by name) or a scenario TOML file, with optional overrides.
+
+    ``overrides`` (or the keyword ``sets``): ``{"road.slope_deg": 12, "driver.gear_lever.gear": ["1"]}`` or
+    ``["road.slope_deg=12", 'driver.gear_lever.gear=["1"]']``. Bad input raises ``InputError`` (one line)."""
+    from vehicle_assist.scenarios import loader
+
+    return loader.load_scenario(name_or_path, as_sets(overrides) + as_sets(sets))
+
+
+def load_vehicle(name_or_path: str | Path, overrides: dict | None = None) -> Vehicle:
+    """Load a shipped vehicle (by name) or a vehicle TOML file."""
+    from vehicle_assist.scenarios import loader
+
+    return loader.load_vehicle(name_or_path, overrides)
+
+
+def simulate(scenario: LoadedScenario, requirements: bool = True) -> Result:
+    """Run one scenario: full trace, metrics, events, checks and requirement robustness."""
+    from vehicle_assist.scenarios import runner
+
+    _cache.prune_stale()
+    return runner.simulate(scenario, requirements=requirements)
+
+
+def simulate_batch(scenarios: Sequence[LoadedScenario], keep_channels: Iterable[str] = (), keep_every: int = 1,
+                   metric_names: Iterable[str] | None = None, workers: int | None = None,
+                   progress: Callable[[int], None] | None = None) -> BatchResult:
+    """Run many variants of one layout on all cores; per-variant metrics (and kept channels)."""
+    from vehicle_assist.scenarios import runner
+
+    _cache.prune_stale()
+    return runner.simulate_batch(scenarios, keep_channels, keep_every, metric_names, workers, progress)
+
+
+def read_run(path: str | Path) -> Trace:
+    """A run's trace from a run directory, ``.parquet``, ``.csv`` (with its sidecar) or ``.mf4`` file."""
+    from vehicle_assist.io.results import read_run as _read_run
+
+    return _read_run(path)
+
+
+def __getattr__(name: str) -> Any:
+    # classes on demand: importing the package stays cheap (no numba compile until a run is asked for)
+    if name in ("Result", "BatchResult"):
         from vehicle_assist.scenarios import runner
 
         return getattr(runner, name)
-    raise AttributeError(name)
+    if name in ("Trace", "Event"):
+        from vehicle_assist.core import trace
+
+        return getattr(trace, name)
+    if name in ("LoadedScenario", "Vehicle"):
+        from vehicle_assist.scenarios import loader
+
+        return getattr(loader, name)
+    raise AttributeError(f"module 'vehicle_assist' has no attribute {name!r}")
 
 
-__all__ = ["load_scenario", "load_vehicle", "simulate", "simulate_batch", "__version__"]
+__all__ = ["load_scenario", "load_vehicle", "simulate", "simulate_batch", "read_run", "as_sets", "Result",
+           "BatchResult", "Trace", "Event", "LoadedScenario", "Vehicle", "__version__"]

@@ -59,7 +59,13 @@ SUFFIX_UNITS: dict[str, str] = {
     "_nm_per_pa": "N*m/Pa",
     "_nm_per_radps": "N*m/(rad/s)",
     "_n_per_m": "N/m",
-    # external units (files, reports)
+    # external units (files, reports); the compound ones first so that '_nm_per_rpm' is not read as 'rpm'
+    "_nm_per_rpm": "N*m/rpm",
+    "_nm_per_bar": "N*m/bar",
+    "_bar_per_s": "bar/s",
+    "_rpm_per_s": "rpm/s",
+    "_deg_per_s": "deg/s",
+    "_kw": "kW",
     "_deg": "deg",
     "_rpm": "rpm",
     "_bar": "bar",

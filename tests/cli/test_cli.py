@@ -178,16 +178,16 @@ def test_fsm_unknown_name_is_a_clean_error(tmp_path):
 
 def test_run_writes_trace_csv_with_units_metrics_and_plot(tmp_path):
     """Requirement: `run` exits 0 on a shipped scenario whose checks come out as expected and writes
-    trace.parquet, trace.csv (second row = units), metrics.json and overview.png."""
+    trace.parquet, trace.csv (units in trace.units.json), metrics.json and overview.png."""
     out = tmp_path / "out"
     res = cli("run", "truck_11deg_late_release", "--out", out, cwd=tmp_path)
     assert "Traceback" not in res.stderr
     assert res.returncode == 0, res.stdout + res.stderr
-    assert sorted(p.name for p in out.iterdir()) == ["metrics.json", "overview.png", "trace.csv", "trace.parquet"]
+    assert sorted(p.name for p in out.iterdir()) == ["metrics.json", "overview.png", "trace.csv", "trace.parquet", "trace.units.json"]
 
     with (out / "trace.csv").open(newline="") as f:
-        names, units, first = next(csv.reader(f)), next(csv.reader(f)), next(csv.reader(f))
-    unit = dict(zip(names, units))
+        names, first = next(csv.reader(f)), next(csv.reader(f))
+    unit = json.loads((out / "trace.units.json").read_text())["units"]
     assert unit["time_s"] == "s" and unit["speed_mps"] == "m/s" and unit["engine_speed_radps"] == "rad/s"
     assert float(first[0]) == 0.0
 

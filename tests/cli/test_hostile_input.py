@@ -294,7 +294,7 @@ def test_mathtext_and_escapes_in_the_name_do_not_break_the_plot(tmp_path):
     out = tmp_path / "out"
     res = invoke("run", path, *SHORT, "--out", out)
     assert res.exit_code in (0, 1), (res.stderr, res.exception)
-    assert sorted(p.name for p in out.iterdir()) == ["metrics.json", "overview.png", "trace.csv", "trace.parquet"]
+    assert sorted(p.name for p in out.iterdir()) == ["metrics.json", "overview.png", "trace.csv", "trace.parquet", "trace.units.json"]
 
 
 def test_plot_titles_take_any_text(tmp_path):

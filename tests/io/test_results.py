@@ -96,13 +96,22 @@ def test_parquet_failure_midway_leaves_old_file_and_no_temp(tmp_path: Path, monk
 
 
 # -- csv -------------------------------------------------------------------------------------------
-def test_csv_has_names_then_units_then_exact_values(tmp_path: Path) -> None:
+def test_csv_has_names_then_exact_values_and_units_in_a_sidecar(tmp_path: Path) -> None:
+    """Issue #12: pandas.read_csv must give numeric columns, so the units live in trace.units.json."""
+    import pandas as pd
+
     trace = awkward_trace()
     path = write_trace_csv(trace, tmp_path / "trace.csv")
     lines = path.read_text().splitlines()
     assert lines[0].split(",") == trace.names
-    assert lines[1].split(",") == ["s", "m/s", "rad/s", "Pa", "1"]
-    data = np.array([[float(x) for x in line.split(",")] for line in lines[2:]])
+    side = json.loads((tmp_path / "trace.units.json").read_text())
+    assert list(side["units"].values()) == ["s", "m/s", "rad/s", "Pa", "1"]
+    assert side["events"] == [e.as_dict() for e in trace.events]
+    df = pd.read_csv(path)
+    assert all(dtype.kind in "fi" for dtype in df.dtypes), df.dtypes  # numbers, never object (strings)
+    back = results.read_trace_csv(path)
+    assert back.events == trace.events and back.meta == trace.meta
+    data = np.array([[float(x) for x in line.split(",")] for line in lines[1:]])
     assert data.shape == (len(trace), len(trace.names))
     for j, name in enumerate(trace.names):
         np.testing.assert_array_equal(bits(data[:, j]), bits(trace[name]), err_msg=name)
@@ -205,7 +214,8 @@ def test_write_run_outputs_writes_the_bundle(tmp_path: Path) -> None:
     paths = write_run_outputs(trace, {"rollback_distance_m": 0.0, "launch_time_s": float("nan")},
                               tmp_path / "run", "test run", checks)
     assert set(paths) == {"parquet", "csv", "metrics", "overview"}
-    assert dir_listing(tmp_path / "run") == ["metrics.json", "overview.png", "trace.csv", "trace.parquet"]
+    assert dir_listing(tmp_path / "run") == ["metrics.json", "overview.png", "trace.csv", "trace.parquet",
+                                             "trace.units.json"]
     doc = json.loads(paths["metrics"].read_text())
     assert list(doc) == ["metrics", "checks", "requirements", "events", "meta"]
     assert doc["metrics"] == {"rollback_distance_m": 0.0, "launch_time_s": None}

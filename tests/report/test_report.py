@@ -59,8 +59,10 @@ def png_size(path: Path) -> tuple[int, int]:
     return int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
 
 
-def expected_height(panels: int) -> int:
-    return round(DPI * (PANEL_HEIGHT_IN * panels + 0.6))
+def expected_height(panels: int, machines: int = 0) -> int:
+    """Panels, a mode strip of 0.3 in per state machine with events (+0.2 in), title and axis margins."""
+    strip = 0.3 * machines + 0.2 if machines else 0.0
+    return round(DPI * (PANEL_HEIGHT_IN * panels + strip + 0.8))
 
 
 @pytest.mark.parametrize(
@@ -73,7 +75,7 @@ def test_overview_png_has_one_panel_per_present_group(tmp_path: Path, make, pane
     assert path.stat().st_size > 10_000
     width, height = png_size(path)
     assert width == round(DPI * 10.0)
-    assert abs(height - expected_height(panels)) <= 1
+    assert abs(height - expected_height(panels, len({e.machine for e in make().events}))) <= 1
     assert sorted(p.name for p in path.parent.iterdir()) == ["overview.png"]
 
 
@@ -110,13 +112,53 @@ def test_reproduce_page_table_escaping_and_relative_figures(tmp_path: Path) -> N
     assert "<title>Reproduction &amp; checks</title>" in text
     assert "<script>" not in text and "&lt;script&gt;" in text
     assert "jerk &amp; co" in text
-    assert text.count('class="pass"') == 1 and text.count('class="fail"') == 1
+    assert text.count('class="pass">PASS') == 1 and text.count('class="fail">FAIL') == 1
     assert 'class="unknown"' in text
     assert ">12.35<" in text and ">NaN<" in text and "&lt;= 0.01" in text
     assert 'src="figures/truck%2014deg.png"' in text
     assert "<figcaption>Truck &lt;14 deg&gt;</figcaption>" in text
-    assert "1 passed, 1 failed, 3 criteria" in text
+    assert "1 as expected, 1 failed, 3 criteria" in text
     assert "http" not in text  # self-contained: no external resources
+
+
+def test_negative_controls_say_fails_as_required_with_their_reason_and_sections(tmp_path: Path) -> None:
+    """Issue #12: a negative control that breaks its bound (as the spec requires) is never a green PASS next to
+    that bound; one that meets it is a FAIL. Sections per paper and study, extra keys shown, provenance."""
+    entries = [
+        {"paper": "000", "scenario": "no_assist", "criterion": "rollback_distance_m", "value": 0.2332, "unit": "m",
+         "bound": "<= 0.01", "pass": True, "negative_control": True, "why": "hill_start_amt.md 9.2: must roll back"},
+        {"paper": "000", "scenario": "bad_control", "criterion": "rollback_distance_m", "value": 0.0, "unit": "m",
+         "bound": "<= 0.01", "pass": False, "negative_control": True, "why": "spec 9.2"},
+        {"paper": "000", "scenario": "grid", "criterion": "9.7", "value": 1.0, "unit": "1", "bound": "> 0",
+         "pass": True, "section": "study: load adaptation", "robustness": 0.25},
+    ]
+    page = write_reproduce_page(entries, [], tmp_path / "index.html", "t", papers={"000": "Truck AMT"},
+                                scenario_hashes={"no_assist": {"scenario_hash": "abc", "parameter_hash": "def"}},
+                                info={"package_version": "9.9", "git_commit": "cafe", "date_utc": "2026-01-01"})
+    text = page.read_text(encoding="utf-8")
+    assert 'class="pass">PASS' not in text.split("study: load adaptation")[0]
+    assert text.count("fails as required</td>") == 1 and "FAIL (should fail)" in text
+    assert text.count("must fail:</span>") == 2 and "hill_start_amt.md 9.2: must roll back" in text
+    assert 'id="paper-000"' in text and "<h2>Paper 000: Truck AMT</h2>" in text
+    assert "<h3>study: load adaptation</h3>" in text and "robustness = 0.25" in text
+    assert "Provenance" in text and "cafe" in text and "<code>abc</code>" in text
+
+
+def test_mode_strips_merge_chatter_for_display_only() -> None:
+    """Reference: a hand-made event list (3 changes 1 ms apart inside a 10 s run) -> HELD, one chatter segment
+    counting them, MOVING; the trace keeps all events."""
+    from vehicle_assist.report.plots import debounced_events, mode_segments
+
+    t = np.linspace(0.0, 10.0, 1001)
+    ev = [Event(2.0, "vehicle", "HELD", "MOVING", "a"), Event(2.001, "vehicle", "MOVING", "HELD", "b"),
+          Event(2.002, "vehicle", "HELD", "MOVING", "a"), Event(5.0, "clutch", "SLIP", "LOCK", "c")]
+    trace = Trace({"time_s": t}, events=ev)
+    segs = mode_segments(trace, "vehicle")
+    assert [(s.label, s.changes) for s in segs] == [("HELD", 1), ("MOVING<->HELD", 3), ("MOVING", 1)]
+    assert segs[1].start_s == 2.0 and segs[1].end_s == 2.002
+    rows = debounced_events(ev)
+    assert len(rows) == 2 and rows[0][:2] == (2.0, 2.002) and "3 changes" in rows[0][5]
+    assert len(trace.events) == 4
 
 
 def test_reproduce_page_rejects_incomplete_entries(tmp_path: Path) -> None:

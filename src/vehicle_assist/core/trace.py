@@ -33,7 +33,7 @@ class Event:
         }
 
 
-@dataclass
+@dataclass(repr=False)
 class Trace:
     """Channels sampled on a common time base ``time_s``.
 
@@ -62,6 +62,12 @@ class Trace:
             if name != "time_s" and np.ndim(values) == 2:
                 return int(np.shape(values)[0])
         return None
+
+    def __repr__(self) -> str:
+        n = len(self)
+        span = f"{self.time_s[0]:g}-{self.time_s[-1]:g} s" if n else "empty"
+        return (f"<Trace {self.meta.get('scenario', '')!s} {n} samples x {len(self.channels)} channels, {span}, "
+                f"{len(self.events)} events>")
 
     # -- access -------------------------------------------------------------------------------
     def __getitem__(self, name: str) -> np.ndarray:

@@ -9,8 +9,10 @@ be exact and never half-written.
 * **Exact.** Parquet stores float64 bit for bit; CSV prints every float with ``%.17g``, which round-trips
   through ``float()`` exactly.
 * **Self-describing.** Parquet carries each channel's unit and description in the field metadata and the
-  trace's ``meta`` and events in the schema metadata (:meth:`Trace.to_arrow`); CSV has a second header
-  row with the units (``unit_of``; ``1`` for dimensionless, empty if the suffix is unknown).
+  trace's ``meta`` and events in the schema metadata (:meth:`Trace.to_arrow`); CSV has one header row
+  (``pandas.read_csv`` gives float columns) and a JSON sidecar ``<stem>.units.json`` with the units
+  (``unit_of``; ``1`` for dimensionless, empty if the suffix is unknown), descriptions, mode names, meta
+  and events; MDF4 (:mod:`vehicle_assist.io.mdf`) carries all of them in the file.
 * **Strict JSON.** NaN and infinities become ``null`` (JSON has no NaN), numpy scalars/arrays become
   plain numbers/lists.
 
@@ -41,7 +43,12 @@ __all__ = [
     "write_trace_parquet",
     "read_trace_parquet",
     "write_trace_csv",
+    "read_trace_csv",
+    "csv_sidecar_path",
     "trace_csv_text",
+    "write_trace",
+    "read_run",
+    "TRACE_FORMATS",
     "write_json",
     "jsonable",
     "write_run_outputs",
@@ -177,21 +184,96 @@ def read_trace_parquet(path: str | Path) -> Trace:
 
 
 def trace_csv_text(trace: Trace) -> str:
-    """The CSV text of ``trace``: names row, units row, then rows of ``%.17g`` floats (exact round trip)."""
+    """The CSV text of ``trace``: one names row, then rows of ``%.17g`` floats (exact round trip).
+
+    No units row: ``pandas.read_csv`` gives float columns. Units, descriptions, mode names, meta and
+    events are in the JSON sidecar written next to the file (:func:`csv_sidecar_path`)."""
     names = trace.names
-    units = [unit_of(name) for name in names]
     buffer = io.StringIO()
     buffer.write(",".join(names) + "\n")
-    buffer.write(",".join(units) + "\n")
     if len(trace):
         data = np.column_stack([np.asarray(trace.channels[n], dtype=np.float64) for n in names])
         np.savetxt(buffer, data, fmt="%.17g", delimiter=",", newline="\n")
     return buffer.getvalue()
 
 
+def csv_sidecar_path(path: str | Path) -> Path:
+    """``trace.csv`` -> ``trace.units.json`` (units, descriptions, mode names, meta and events of the CSV)."""
+    path = Path(path)
+    return path.with_name(path.stem + ".units.json")
+
+
 def write_trace_csv(trace: Trace, path: str | Path) -> Path:
-    """Write ``trace`` as CSV (see :func:`trace_csv_text`), atomically."""
-    return atomic_write_text(path, trace_csv_text(trace))
+    """Write ``trace`` as CSV (see :func:`trace_csv_text`) and its JSON sidecar, atomically."""
+    target = atomic_write_text(path, trace_csv_text(trace))
+    write_json({"units": trace.units, "descriptions": dict(trace.descriptions),
+                "mode_names": _mode_names(trace), "meta": dict(trace.meta),
+                "events": [e.as_dict() for e in trace.events]}, csv_sidecar_path(target))
+    return target
+
+
+def _mode_names(trace: Trace) -> dict:
+    from vehicle_assist.io.mdf import mode_names
+
+    return mode_names(trace)
+
+
+def read_trace_csv(path: str | Path) -> Trace:
+    """Read a CSV written by :func:`write_trace_csv` (with its sidecar, if present) as a :class:`Trace`."""
+    path = Path(path)
+    with open(path, encoding="utf-8") as handle:
+        names = handle.readline().strip().split(",")
+        data = np.loadtxt(handle, delimiter=",", ndmin=2, dtype=np.float64)
+    data = data.reshape(-1, len(names))
+    channels = {name: np.ascontiguousarray(data[:, j]) for j, name in enumerate(names)}
+    descriptions: dict[str, str] = {}
+    meta: dict[str, str] = {}
+    events: list[Event] = []
+    sidecar = csv_sidecar_path(path)
+    if sidecar.is_file():
+        doc = json.loads(sidecar.read_text(encoding="utf-8"))
+        descriptions = dict(doc.get("descriptions", {}))
+        meta = {k: str(v) for k, v in doc.get("meta", {}).items()}
+        events = [Event(**{**e, "time_s": float(e["time_s"])}) for e in doc.get("events", [])]
+    return Trace(channels, descriptions, meta, events)
+
+
+TRACE_FORMATS = ("parquet", "csv", "mdf4")
+_SUFFIX = {"parquet": ".parquet", "csv": ".csv", "mdf4": ".mf4"}
+
+
+def write_trace(trace: Trace, path: str | Path, fmt: str) -> Path:
+    """Write ``trace`` in format ``fmt`` (parquet, csv or mdf4) to ``path``."""
+    if fmt == "parquet":
+        return write_trace_parquet(trace, path)
+    if fmt == "csv":
+        return write_trace_csv(trace, path)
+    if fmt == "mdf4":
+        from vehicle_assist.io.mdf import write_trace_mdf4
+
+        return write_trace_mdf4(trace, path)
+    raise ValueError(f"unknown format {fmt!r}; use one of {', '.join(TRACE_FORMATS)}")
+
+
+def read_run(path: str | Path) -> Trace:
+    """Read a run's trace: a ``.parquet``, ``.csv`` or ``.mf4``/``.mdf`` file, or a run directory written by
+    ``vehicle-assist run`` (trace.parquet, else trace.mf4, else trace.csv)."""
+    path = Path(path)
+    if path.is_dir():
+        for name in ("trace.parquet", "trace.mf4", "trace.csv"):
+            if (path / name).is_file():
+                return read_run(path / name)
+        raise FileNotFoundError(f"{path}: no trace.parquet, trace.mf4 or trace.csv in this directory")
+    suffix = path.suffix.lower()
+    if suffix == ".parquet":
+        return read_trace_parquet(path)
+    if suffix == ".csv":
+        return read_trace_csv(path)
+    if suffix in (".mf4", ".mdf"):
+        from vehicle_assist.io.mdf import read_trace_mdf4
+
+        return read_trace_mdf4(path)
+    raise ValueError(f"{path}: unknown trace format {suffix!r}; use .parquet, .csv or .mf4")
 
 
 # -- JSON ------------------------------------------------------------------------------------------
@@ -236,19 +318,20 @@ def write_run_outputs(
     checks: list[dict] | None = None,
     plot: bool = True,
     requirements: list[dict] | None = None,
+    formats: tuple[str, ...] = ("parquet", "csv"),
 ) -> dict[str, Path]:
     """Write the outputs of one run into ``out_dir`` and return their paths.
 
-    Keys: ``parquet`` (trace.parquet), ``csv`` (trace.csv), ``metrics`` (metrics.json holding
-    ``{"metrics", "checks", "events", "meta"}``) and ``overview`` (overview.png).
+    Keys: one per trace format in ``formats`` (``parquet`` trace.parquet, ``csv`` trace.csv with its sidecar
+    trace.units.json, ``mdf4`` trace.mf4), ``metrics`` (metrics.json holding ``{"metrics", "checks",
+    "requirements", "events", "meta"}``) and ``overview`` (overview.png).
     """
     from vehicle_assist.report.plots import overview_png
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    paths = {
-        "parquet": write_trace_parquet(trace, out / "trace.parquet"),
-        "csv": write_trace_csv(trace, out / "trace.csv"),
+    paths = {fmt: write_trace(trace, out / f"trace{_SUFFIX[fmt]}", fmt) for fmt in formats}
+    paths.update({
         "metrics": write_json(
             {
                 "metrics": dict(metrics),
@@ -259,7 +342,7 @@ def write_run_outputs(
             },
             out / "metrics.json",
         ),
-    }
+    })
     if plot:
         paths["overview"] = overview_png(trace, out / "overview.png", title)
     return paths

@@ -125,24 +125,115 @@ def _draw_lines(ax, trace: Trace, lines: tuple[Line, ...], color_offset: int = 0
     return handles
 
 
-def _draw_events(axes: list, trace: Trace) -> None:
-    """Mark each event inside the time range with a dotted line on every panel and a label on the top one."""
-    if not trace.events or not len(trace):
-        return
-    t0_s, t1_s = float(np.min(trace.time_s)), float(np.max(trace.time_s))
-    events = [e for e in trace.events if t0_s <= e.time_s <= t1_s]
-    for ax in axes:
-        for event in events:
-            ax.axvline(event.time_s, color="0.45", lw=0.6, ls=":", zorder=0)
-    top = axes[0]
-    for event in events:
-        label = top.annotate(
-            _plain(f"{event.machine}: {event.to_mode}"), parse_math=False,
-            xy=(event.time_s, 1.0), xycoords=("data", "axes fraction"),
-            xytext=(2, -2), textcoords="offset points",
-            rotation=90, va="top", ha="left", fontsize=6, color="0.3",
-        )
-        label.set_in_layout(False)
+DEBOUNCE_S = 0.05  # display only: mode segments shorter than this are drawn as one hatched "chatter" span
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One span of a machine's mode in the display; ``changes`` > 1 marks merged chatter."""
+
+    start_s: float
+    end_s: float
+    label: str
+    changes: int = 1
+
+
+def mode_segments(trace: Trace, machine: str, debounce_s: float = DEBOUNCE_S) -> list[Segment]:
+    """The modes of ``machine`` over the trace as segments, with runs of segments shorter than ``debounce_s``
+    merged into one ``A<->B`` chatter segment that says how many changes it holds (display only; the trace
+    and its events keep every change)."""
+    events = [e for e in trace.events if e.machine == machine]
+    if not events or not len(trace):
+        return []
+    t0, t1 = float(trace.time_s[0]), float(trace.time_s[-1])
+    raw: list[Segment] = []
+    start, mode = t0, events[0].from_mode
+    for e in events:
+        raw.append(Segment(start, max(e.time_s, start), mode))
+        start, mode = e.time_s, e.to_mode
+    raw.append(Segment(start, max(t1, start), mode))
+    out: list[Segment] = []
+    run: list[Segment] = []
+
+    def flush() -> None:
+        if not run:
+            return
+        if len(run) == 1:
+            out.append(run[0])
+        else:
+            names = list(dict.fromkeys(s.label for s in run))
+            out.append(Segment(run[0].start_s, run[-1].end_s, "<->".join(names), len(run) + 1))  # changes at both ends
+        run.clear()
+
+    for seg in raw:
+        if seg.end_s - seg.start_s < debounce_s:
+            run.append(seg)
+        else:
+            flush()
+            out.append(seg)
+    flush()
+    return [s for s in out if s.end_s > s.start_s or len(out) == 1]
+
+
+def debounced_events(events, debounce_s: float = DEBOUNCE_S) -> list[tuple[float, float, str, str, str, str]]:
+    """Rows (start s, end s, machine, from, to, guard) for a table: a run of changes of one machine each within
+    ``debounce_s`` of the previous becomes one row "A<->B" whose guard says how many changes it holds."""
+    rows: list[list] = []
+    last: dict[str, int] = {}
+    for e in events:
+        k = last.get(e.machine)
+        if k is not None and e.time_s - rows[k][1] < debounce_s and rows[k][6] == len(rows) - 1:
+            row = rows[k]
+            row[1] = e.time_s
+            row[4] = e.to_mode
+            row[7] += 1
+            row[8].add(e.from_mode)
+            row[8].add(e.to_mode)
+            continue
+        rows.append([e.time_s, e.time_s, e.machine, e.from_mode, e.to_mode, e.reason, len(rows), 1,
+                     {e.from_mode, e.to_mode}])
+        last[e.machine] = len(rows) - 1
+    out = []
+    for r in rows:
+        if r[7] > 1:
+            out.append((r[0], r[1], r[2], r[3], r[4], f"{r[7]} changes between {'/'.join(sorted(r[8]))} "
+                        f"(chatter, each < {debounce_s * 1e3:g} ms apart)"))
+        else:
+            out.append((r[0], r[1], r[2], r[3], r[4], r[5]))
+    return out
+
+
+def _draw_strips(ax, trace: Trace, machines: list[str]) -> None:
+    """One horizontal strip per state machine: a coloured bar per mode with its name inside where it fits,
+    chatter hatched with its count."""
+    span = float(trace.time_s[-1] - trace.time_s[0]) or 1.0
+    colors: dict[str, str] = {}
+    for row, machine in enumerate(machines):
+        y = len(machines) - 1 - row
+        for seg in mode_segments(trace, machine):
+            width = seg.end_s - seg.start_s
+            if seg.changes > 1:
+                ax.broken_barh([(seg.start_s, width)], (y + 0.1, 0.8), facecolors="0.85", edgecolors="0.3",
+                               hatch="////", lw=0.4)
+                text = f"{seg.changes} changes"
+            else:
+                color = colors.setdefault(seg.label, f"C{len(colors) % 10}")
+                ax.broken_barh([(seg.start_s, width)], (y + 0.1, 0.8), facecolors=color, alpha=0.35,
+                               edgecolors="0.3", lw=0.4)
+                text = seg.label
+            if width / span > 0.012 * max(len(text), 3):  # the name fits in the bar (fontsize 6 at 10 in)
+                ax.text(seg.start_s + width / 2, y + 0.5, _plain(text), ha="center", va="center", fontsize=6,
+                        clip_on=True, parse_math=False)
+    ax.set_yticks([len(machines) - 1 - i + 0.5 for i in range(len(machines))], [_plain(m) for m in machines],
+                  fontsize=7)
+    ax.set_ylim(0, len(machines))
+    ax.set_title("Modes (hatched: faster changes than %g ms, merged for display)" % (DEBOUNCE_S * 1e3), fontsize=9,
+                 loc="left")
+
+
+def _event_machines(trace: Trace) -> list[str]:
+    t0, t1 = (float(trace.time_s[0]), float(trace.time_s[-1])) if len(trace) else (0.0, 0.0)
+    return list(dict.fromkeys(e.machine for e in trace.events if t0 <= e.time_s <= t1 and e.machine != "scenario"))
 
 
 def _plain(text: str) -> str:
@@ -156,14 +247,20 @@ def _render(trace: Trace, panels: list[Panel], path: str | Path, title: str) -> 
     from matplotlib.figure import Figure
 
     n = max(len(panels), 1)
-    height_in = PANEL_HEIGHT_IN * n + 0.6
+    machines = _event_machines(trace)
+    strip_in = 0.3 * len(machines) + 0.2 if machines else 0.0
+    height_in = PANEL_HEIGHT_IN * n + strip_in + 0.8
     fig = Figure(figsize=(FIGURE_WIDTH_IN, height_in), dpi=DPI)
     # fixed margins instead of a layout engine: the constrained solver cost 0.3 s per figure
-    fig.subplots_adjust(left=0.08, right=0.92, top=1.0 - 0.55 / height_in, bottom=0.45 / height_in,
+    fig.subplots_adjust(left=0.13, right=0.92, top=1.0 - 0.75 / height_in, bottom=0.45 / height_in,
                         hspace=0.42 * 2.2 / PANEL_HEIGHT_IN)
     FigureCanvasAgg(fig)
-    axes = list(np.atleast_1d(fig.subplots(n, 1, sharex=True, squeeze=False)[:, 0]))
-    fig.suptitle(_plain(title), fontsize=11, parse_math=False)  # user text: no mathtext ($), no control characters
+    ratios = [PANEL_HEIGHT_IN] * n + ([strip_in] if machines else [])
+    grid = fig.subplots(len(ratios), 1, sharex=True, squeeze=False, gridspec_kw={"height_ratios": ratios})[:, 0]
+    axes = list(np.atleast_1d(grid[:n]))
+    strip_ax = grid[n] if machines else None
+    # user text: no mathtext ($), no control characters; left-aligned above the legends' row
+    fig.text(0.01, 1.0 - 0.12 / height_in, _plain(title), fontsize=11, va="top", ha="left", parse_math=False)
     if not panels:
         axes[0].text(0.5, 0.5, "no plottable channels in this trace", ha="center", va="center",
                      transform=axes[0].transAxes)
@@ -182,7 +279,9 @@ def _render(trace: Trace, panels: list[Panel], path: str | Path, title: str) -> 
             # in the title row, right-aligned: never hides data
             ax.legend(handles=handles, loc="lower right", bbox_to_anchor=(1.0, 1.0), ncols=min(len(handles), 4),
                       fontsize=7, frameon=False, borderaxespad=0.1, handlelength=2.5)
-    _draw_events(axes, trace)
+    if strip_ax is not None:
+        _draw_strips(strip_ax, trace, machines)
+        axes.append(strip_ax)
     axes[-1].set_xlabel("time [s]")
     if len(trace):
         axes[-1].set_xlim(float(trace.time_s[0]), float(trace.time_s[-1]))

@@ -7,8 +7,10 @@ kernel), split it across threads (the kernels release the GIL) and keep only the
 """
 from __future__ import annotations
 
+import json
 import math
 import os
+import re
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Callable, Iterable, Sequence
@@ -54,8 +56,10 @@ class CheckResult:
                 "expect": self.expect, "bound_holds": self.passed, "ok": self.ok, "why": self.why}
 
 
-@dataclass
+@dataclass(repr=False)
 class Result:
+    """One run: ``trace`` (channels, events, meta), ``metrics``, ``checks`` and ``requirements``."""
+
     scenario: LoadedScenario
     trace: Trace
     metrics: dict[str, float]
@@ -69,6 +73,30 @@ class Result:
     @property
     def ok(self) -> bool:
         return all(c.ok for c in self.checks) and all(r.ok for r in self.requirements)
+
+    def to_pandas(self):
+        """The trace as a pandas DataFrame (one float column per channel; units in ``df.attrs['units']``)."""
+        return self.trace.to_pandas()
+
+    def __repr__(self) -> str:
+        failed = sum(not c.ok for c in self.checks) + sum(not r.ok for r in self.requirements)
+        verdict = "ok" if failed == 0 else f"{failed} FAILED"
+        return (f"<Result {self.scenario.name}: {len(self.trace)} samples, {len(self.metrics)} metrics, "
+                f"{len(self.checks)} checks ({verdict}), {len(self.trace.events)} events>")
+
+    def _repr_html_(self) -> str:
+        """Notebook view: the checks and the metrics as two small tables."""
+        from html import escape
+
+        rows = "".join(
+            f"<tr><td>{escape(c.metric)}</td><td>{c.value:.4g}</td><td>{escape(c.bound)}</td>"
+            f"<td>{escape(c.expect)}</td><td style='color:{'green' if c.ok else 'red'}'>"
+            f"{'ok' if c.ok else 'FAIL'}</td></tr>" for c in self.checks)
+        metrics = "".join(f"<tr><td>{escape(k)}</td><td>{v:.4g}</td></tr>" for k, v in self.metrics.items())
+        return (f"<div><b>{escape(self.scenario.name)}</b>: {len(self.trace)} samples, "
+                f"{len(self.trace.events)} events"
+                f"<table><tr><th>check</th><th>value</th><th>bound</th><th>expect</th><th>result</th></tr>{rows}</table>"
+                f"<details><summary>{len(self.metrics)} metrics</summary><table>{metrics}</table></details></div>")
 
 
 def _capacities(flats: Sequence[dict]) -> dict[str, int]:
@@ -109,6 +137,23 @@ def scenario_machines(sc: LoadedScenario) -> list[StateMachine]:
         names.append(f"event {i}: {e.action} {what}")
     trans = tuple(Transition("PENDING", "FIRED", n) for n in names) or (Transition("PENDING", "FIRED", "none"),)
     return list(lay.MACHINES) + [StateMachine("scenario", ("PENDING", "FIRED"), trans)]
+
+
+def mode_tables(channels: dict[str, str], machines: Sequence[StateMachine]) -> dict[str, list[str]]:
+    """{mode channel: mode names by index} for the ``*_mode_index`` channels of a layout.
+
+    A channel names its machine in its description ("... see the amt_launch state machine") or by its
+    prefix (``hba_mode_index`` -> ``hba``); a channel whose machine cannot be told is left out."""
+    by_name = {m.name: m for m in machines}
+    out: dict[str, list[str]] = {}
+    for channel, description in channels.items():
+        if not channel.endswith("_mode_index"):
+            continue
+        named = re.search(r"the (\w+) state machine", description or "")
+        machine = by_name.get(named.group(1)) if named else by_name.get(channel[: -len("_mode_index")])
+        if machine is not None:
+            out[channel] = list(machine.modes)
+    return out
 
 
 def evaluate_checks(sc: LoadedScenario, metrics: dict[str, float]) -> list[CheckResult]:
@@ -170,19 +215,55 @@ def simulate(sc: LoadedScenario, requirements: bool = True) -> Result:
     events = np.zeros((EVENT_BUFFER, EVENT_FIELDS))
     n_rec, n_ev = lay.run_kernel(p[0], s[0], _noise(sc, len(lay.SENSORS)), trace_rows, events)
     channels = {name: np.array(trace_rows[name][:n_rec]) for name in lay.CHANNELS}
-    trace = Trace(channels, dict(lay.CHANNELS), _meta(sc), decode_events(events, n_ev, scenario_machines(sc)))
+    machines = scenario_machines(sc)
+    meta = _meta(sc)
+    meta["mode_names"] = json.dumps(mode_tables(lay.CHANNELS, machines))
+    trace = Trace(channels, dict(lay.CHANNELS), meta, decode_events(events, n_ev, machines))
     metrics = compute_metrics(trace)
     reqs = evaluate_requirements(sc, trace, metrics) if requirements and sc.model.requirements else []
     return Result(sc, trace, metrics, evaluate_checks(sc, metrics), reqs)
 
 
-@dataclass
+@dataclass(repr=False)
 class BatchResult:
-    """Per-variant metrics (and the kept channels, decimated) of a batch."""
+    """Per-variant metrics (and the kept channels, decimated) of a batch; ``overrides`` are the dotted
+    ``--set`` assignments of each variant (its parameters)."""
 
     metrics: list[dict[str, float]]
     channels: list[dict[str, np.ndarray]]
     checks_ok: list[bool]
+    overrides: list[tuple[str, ...]] = field(default_factory=list)
+
+    def parameters(self) -> list[dict]:
+        """Each variant's overrides as {dotted path: value} (values parsed as TOML, e.g. numbers, lists)."""
+        from vehicle_assist.scenarios.loader import parse_value
+
+        out = []
+        for sets in self.overrides or [()] * len(self.metrics):
+            row = {}
+            for a in sets:
+                key, _, text = a.partition("=")
+                row[key.strip()] = parse_value(text.strip())
+            out.append(row)
+        return out
+
+    def to_pandas(self):
+        """One row per variant: its parameters (overridden paths, lists as text), metrics and ``checks_ok``."""
+        import pandas as pd
+
+        rows = []
+        for params, metrics, ok in zip(self.parameters(), self.metrics, self.checks_ok):
+            row = {k: (json.dumps(v) if isinstance(v, (list, dict)) else v) for k, v in params.items()}
+            row.update(metrics)
+            row["checks_ok"] = ok
+            rows.append(row)
+        return pd.DataFrame(rows)
+
+    def __len__(self) -> int:
+        return len(self.metrics)
+
+    def __repr__(self) -> str:
+        return f"<BatchResult {len(self.metrics)} variants, {sum(self.checks_ok)} with checks ok>"
 
 
 def simulate_batch(
@@ -199,7 +280,7 @@ def simulate_batch(
     ``keep_every``-th record) and the metrics of each variant are kept.
     """
     if not scenarios:
-        return BatchResult([], [], [])
+        return BatchResult([], [], [], [])
     layout = scenarios[0].layout
     if any(sc.layout != layout for sc in scenarios):
         raise ValueError("a batch must use one vehicle layout; split it by layout")
@@ -253,4 +334,4 @@ def simulate_batch(
     else:
         with ThreadPoolExecutor(workers) as pool:
             list(pool.map(work, chunks))
-    return BatchResult(metrics, kept, oks)
+    return BatchResult(metrics, kept, oks, [tuple(sc.sets) for sc in scenarios])

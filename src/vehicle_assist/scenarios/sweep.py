@@ -46,7 +46,7 @@ def parse_grid(grid: list[str]) -> list[tuple[str, list]]:
         path = path.strip()
         if not path or path.count(".") >= MAX_DEPTH:
             raise InputError(f"--grid {item[:60]!r}: give a dotted path of at most {MAX_DEPTH} levels before '='")
-        parsed = [parse_value(v.strip()) for v in values.split(",") if v.strip()]
+        parsed = [parse_value(v.strip()) for v in _split_top(values) if v.strip()]
         if not parsed:
             raise InputError(f"--grid {item!r}: no values")
         if any(path == p for p, _ in axes):
@@ -55,8 +55,50 @@ def parse_grid(grid: list[str]) -> list[tuple[str, list]]:
     return axes
 
 
+def _split_top(text: str) -> list[str]:
+    """Split on commas outside brackets and quotes: ``[1,2],[3,4]`` -> ``["[1,2]", "[3,4]"]`` (a list-valued
+    parameter such as ``driver.accelerator.frac`` can be an axis)."""
+    out, depth, quote, start = [], 0, "", 0
+    for i, ch in enumerate(text):
+        if quote:
+            if ch == quote:
+                quote = ""
+        elif ch in "\"'":
+            quote = ch
+        elif ch in "[{":
+            depth += 1
+        elif ch in "]}":
+            depth -= 1
+        elif ch == "," and depth == 0:
+            out.append(text[start:i])
+            start = i + 1
+    out.append(text[start:])
+    return out
+
+
 def _assignment(path: str, value) -> str:
-    return f"{path}={json.dumps(value) if isinstance(value, (str, bool)) else value}"
+    return f"{path}={json.dumps(value) if isinstance(value, (str, bool, list, dict)) else value}"
+
+
+def _column(values: list) -> list:
+    """An axis column: list/dict values as their JSON text (one Parquet type per column)."""
+    if any(isinstance(v, (list, dict)) for v in values):
+        return [json.dumps(v) for v in values]
+    return values
+
+
+def _with_units_and_provenance(table: pa.Table, spec: dict) -> pa.Table:
+    """Each column carries its ``unit`` (from the name suffix; an axis in file units such as ``_deg`` keeps
+    that unit) and the schema carries the sweep record (scenario, sets, grid, hashes, package version and
+    source digest) under ``vehicle_assist.sweep`` plus the date it was merged."""
+    import datetime
+
+    from vehicle_assist.units import unit_of
+
+    fields = [pa.field(f.name, f.type, metadata={"unit": unit_of(f.name.rsplit(".", 1)[-1])}) for f in table.schema]
+    meta = {b"vehicle_assist.sweep": json.dumps(spec).encode(),
+            b"created_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds").encode()}
+    return table.cast(pa.schema(fields, metadata=meta))
 
 
 def _package_source_digest() -> str:
@@ -193,7 +235,7 @@ def run_sweep(base: LoadedScenario, grid: list[str], out: Path, chunk: int = 500
                     res = simulate_batch(variants, workers=workers, progress=lambda n: progress.advance(task, n))
                     columns: dict[str, list] = {"variant": list(range(lo, hi))}
                     for j, (path, _) in enumerate(axes):
-                        columns[path] = [combo[j] for combo in block]
+                        columns[path] = _column([combo[j] for combo in block])
                     names = sorted({m for d in res.metrics for m in d})
                     for name in names:
                         columns[name] = [d.get(name, float("nan")) for d in res.metrics]
@@ -220,6 +262,7 @@ def run_sweep(base: LoadedScenario, grid: list[str], out: Path, chunk: int = 500
                 raise InputError(f"{plain(str(part))}: cannot read it back ({exc.__class__.__name__}); delete it and run the "
                                  "sweep again to recompute it") from None
         merged = pa.concat_tables([t.replace_schema_metadata(None) for t in tables], promote_options="default")
+        merged = _with_units_and_provenance(merged, spec)
         final = out / "sweep.parquet"
         with atomic_path(final) as tmp:
             pq.write_table(merged, tmp)
