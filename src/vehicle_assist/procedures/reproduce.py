@@ -126,3 +126,9 @@ from vehicle_assist.procedures import curve_shift_study as _curve_shift_study  #
 
 REPRODUCTIONS.append(_curve_shift_study.reproduction())
 EXTRAS.update(_curve_shift_study.EXTRAS)
+
+# paper 004 (issue #10): tire-blowout stabilisation by differential braking, on the sedan_esp platform
+from vehicle_assist.procedures import blowout_study as _blowout_study  # noqa: E402
+
+REPRODUCTIONS.append(_blowout_study.reproduction())
+EXTRAS.update(_blowout_study.EXTRAS)
