@@ -10,7 +10,12 @@ Baseline: the plain-Python loop of the same model, i.e. the very same step code 
 * compile time reported separately (cold minus warm run).
 
 Each measurement runs in a fresh subprocess (a cold compile uses an empty NUMBA_CACHE_DIR).
-Results: printed table and benchmarks/results/latest.json. Exit code 1 if a target is missed.
+Results: printed table and benchmarks/results/latest.json.
+
+Exit code (issue #12): the gate uses only measures a loaded machine does not distort - speed-ups of the compiled
+code over the plain-Python loop measured in the same run (both slow down together), and peak memory. The absolute
+wall times against the targets above are printed for information ("info"), never fail the run: on a machine
+shared with other jobs they measure the load, not the code. Exit 1 only if a ratio or the memory target is missed.
 """
 from __future__ import annotations
 
@@ -99,17 +104,29 @@ def main() -> int:
     results["speedup_batch_per_variant_vs_plain_python"] = results["plain_python_run_s"] / per_variant
     results["batch_10000_projected_s"] = per_variant * 10000
     results["hsa_speedup_vs_plain_python"] = results["hsa_plain_python_run_s"] / results["hsa_compiled_run_s"]
-    targets = [
+    info = [
         ("run, warm cache", results["run_warm_s"], 2.0, "s"),
         ("run of a hill-start scenario, warm cache", results["hsa_run_warm_s"], 2.0, "s"),
         ("run, cold cache", results["run_cold_s"], 10.0, "s"),
         ("batch of 10,000 (build + run)", results["batch_10000_projected_s"], 20.0, "s"),
+    ]
+    # gated: ratios (compiled vs plain Python in the same run) and memory; the speed-up bounds are assumed
+    # conservative floors (an order of magnitude below what a numba kernel of a step loop gives), so a miss
+    # means the kernels fell back to object mode or the batch lost its parallelism, not that the machine is busy
+    targets = [
         ("batch peak memory", batch["peak_rss_bytes"] / 2**30, 1.0, "GiB"),
+        ("plain Python / compiled, single run (inverse)", 1.0 / results["speedup_single_run_vs_plain_python"], 1 / 20, "1"),
+        ("plain Python / compiled per batch variant (inverse)",
+         1.0 / results["speedup_batch_per_variant_vs_plain_python"], 1 / 50, "1"),
+        ("plain Python / compiled, hill-start run (inverse)", 1.0 / results["hsa_speedup_vs_plain_python"], 1 / 20, "1"),
     ]
     print(f"{'measurement':<44}{'value':>12}  unit")
     for key, value in results.items():
         print(f"{key:<44}{value:>12.4g}")
     print()
+    for name, value, bound, unit in info:
+        print(f"{'info' if value < bound else 'info (over: machine load?)'}  {name}: {value:.3g} {unit} "
+              f"(target < {bound:g} {unit}, not gated)")
     failed = 0
     for name, value, bound, unit in targets:
         ok = value < bound
@@ -117,7 +134,8 @@ def main() -> int:
         print(f"{'PASS' if ok else 'MISS'}  {name}: {value:.3g} {unit} (target < {bound:g} {unit})")
     (ROOT / "results").mkdir(exist_ok=True)
     (ROOT / "results" / "latest.json").write_text(json.dumps({"results": results, "targets": [
-        {"name": n, "value": v, "bound": b, "unit": u, "pass": v < b} for n, v, b, u in targets]}, indent=2))
+        {"name": n, "value": v, "bound": b, "unit": u, "pass": v < b} for n, v, b, u in targets],
+        "info": [{"name": n, "value": v, "bound": b, "unit": u} for n, v, b, u in info]}, indent=2))
     return 1 if failed else 0
 
 
