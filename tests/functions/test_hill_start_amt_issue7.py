@@ -262,3 +262,21 @@ def test_slow_chamber_fill_stand_down_keeps_the_truck_held(name) -> None:
     assert r_on.trace["valve_32_energized_flag"][-1] > 0.5 and r_on.trace["park_lamp_flag"][-1] > 0.5
     assert ("hill_start_amt", "ENGAGE_RELEASING", "STOOD_DOWN", "park_brake_not_released") in [
         (e.machine, e.from_mode, e.to_mode, e.reason) for e in r_on.events]
+
+
+@pytest.mark.parametrize("name, slope_deg", [(S2, 0.0), (S2, 3.0), (S1, 0.0)])
+def test_lift_off_after_the_start_never_applies_the_spring_brake_while_moving(name, slope_deg) -> None:
+    """Reference: the purpose of the catch (issue 7: catch a truck that moves backwards) and the plain safety rule
+    that a park brake is not applied under a truck moving forward without a request. The driver starts (pedal 0.5),
+    then lifts off at 9 s without braking: the engine falls to idle (= the guard speed) while the truck coasts.
+    Before the review `engine_pulled_down_on_grade` fired then (its 'on grade' test was only T_hold > 0, true on a
+    level road) and the spring brake applied 70-83 kN at the rear tandem under the moving truck."""
+    r = va.simulate(va.load_scenario(name, [
+        "driver.accelerator={time_s=[0.0, 1.0, 1.5, 9.0, 9.5], frac=[0.0, 0.0, 0.5, 0.5, 0.0]}", "run.duration_s=20",
+        f"road.slope_deg={slope_deg}"]))
+    tr = r.trace
+    moving = (np.asarray(tr["speed_mps"]) > 0.05) & (np.asarray(tr["time_s"]) > 6.0)
+    assert moving.any()
+    assert np.all(np.abs(np.asarray(tr["park_brake_force_n"])[moving]) < 1.0)
+    assert not any(e.reason == "engine_pulled_down_on_grade" for e in r.events)
+    assert r.metrics["rollback_distance_m"] <= 0.01 or slope_deg > 0.0  # on the grade a rollback is caught instead

@@ -361,8 +361,14 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     g[G_ACCELERATOR] = m.accelerator_frac >= p.hill_start_assist_accelerator_on_frac
     g[G_KISS] = c.clutch_command_frac >= p.clutch_kiss_point_frac
     g[G_RELEASE] = at_release_point and m.hand_valve_released_flag > 0.5 and torque_ok
+    # before the AMT's own 550 rpm opening; only on a grade that rolls the truck back (grade force above the
+    # rolling resistance) and with the driver on the accelerator: a driver who lifts off lets the engine fall to
+    # idle (the guard speed) while coasting, and the spring brake must not be applied under a moving truck then
+    # (review of issue 7: with 't_hold > 0' alone it was, on a level road, 70-83 kN at the rear tandem); a truck
+    # that then stops and rolls back is caught by rollback_detected
     g[G_PULLED_DOWN] = (catch_on and engine_ok and m.engine_speed_radps < p.hill_start_assist_guard_speed_radps
-                        and t_hold > 0.0 and not brake_applied)  # before the AMT's own 550 rpm opening
+                        and grade_force > 0.0 and m.accelerator_frac >= p.hill_start_assist_accelerator_on_frac
+                        and not brake_applied)
     g[G_SLIP_SMALL] = (abs(slip_meas) <= p.hill_start_assist_lockup_slip_radps
                        and m.vehicle_speed_mps > p.hill_start_assist_moving_speed_mps and lock_ok)
     g[G_CLOSED] = c.clutch_command_frac >= 1.0 and (int(c.mode) != STOOD_DOWN
