@@ -130,3 +130,24 @@ def test_scenario_run_reports_requirement_robustness(tmp_path):
     assert ids == ["hill_start_amt.no_stall", "slow"]
     expect_fail = by_id["slow"].robustness < 0
     assert cli.exit_code == (1 if expect_fail or not res.ok else 0)
+
+
+@pytest.mark.parametrize("dt", [0.001, 0.002, 0.005, 0.01])
+def test_bounded_formula_at_any_recording_period(dt):
+    """Reviewer (issue #8): runs recorded at 1 ms crashed rtamt ("bound must be a multiple of the sampling
+    period": 0.001 * 1e9 is not an exact integer in floating point). Reference: by hand, speed = 0.1 (t - 5)
+    after 5 s, released at t = 3 s, window [3, 18] s: max 1.3 m/s - 0.5 = 0.8; the dip of -0.004 m/s gives
+    always(v >= -0.01) = 0.006."""
+    t = np.round(np.arange(0.0, 30.0 + dt / 2, dt), 9)
+    v = np.where(t < 5, -0.004 * np.sin(np.pi * t / 5), 0.1 * (t - 5))
+    tr = Trace({"time_s": t, "speed_mps": v, "brake_pedal_frac": np.where(t < 3, 1.0, 0.0)})
+    assert robustness(get_requirement("hill_start_amt.start_completes"), tr) == pytest.approx(0.8)
+    assert robustness(req("always(speed_mps >= -0.01)"), tr) == pytest.approx(0.006)
+
+
+def test_bound_not_a_whole_number_of_samples_is_one_line():
+    t = np.arange(0, 400) * 0.007  # 15 s / 7 ms is not a whole number of samples
+    tr = Trace({"time_s": t, "speed_mps": np.ones_like(t), "brake_pedal_frac": np.zeros_like(t)})
+    with pytest.raises(InputError) as err:
+        robustness(get_requirement("hill_start_amt.start_completes"), tr)
+    assert "\n" not in str(err.value) and "record_period_s" in str(err.value)

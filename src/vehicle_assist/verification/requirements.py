@@ -14,7 +14,9 @@ violation in the channel's unit; negative means violated.
   pedal below 0.05, hill_start_amt.md 6.4: released service brake).
 * **Comparative requirements** (``kind = "no_worse_than_baseline"``) compare a run with its no-assist
   twin (issue #7 item 1): robustness = ``max(floor, baseline rollback) - rollback`` in metres, and -1
-  (a Boolean part) if the assisted run stalls the engine while the baseline does not.
+  (a Boolean part) if the assisted run stalls the engine while the baseline does not. ``metric`` names
+  the run metric compared (default ``rollback_distance_m``; the brake assist compares
+  ``stopping_distance_m``: stopping distance with HBA <= without).
 
 Shipped requirements live in ``data/requirements/<function>.toml``.
 """
@@ -22,6 +24,7 @@ from __future__ import annotations
 
 import functools
 import math
+from fractions import Fraction
 import re
 import threading
 import tomllib
@@ -76,6 +79,7 @@ class Requirement:
     rollback_floor_m: float = 0.01
     baseline: tuple[str, ...] = ()
     channels: tuple[str, ...] = ()  # trace channels the monitor reads (derived ones expanded)
+    metric: str = "rollback_distance_m"  # comparative kind: the run metric compared with the baseline twin's
 
     @property
     def comparative(self) -> bool:
@@ -189,7 +193,10 @@ def _spec(formula: str, names: tuple[str, ...], dt_s: float):
         for n in names:
             spec.declare_var(n, "float")
         spec.spec = formula
-        spec.set_sampling_period(dt_s, "s", 0.1)
+        # rtamt checks that each time bound is a whole number of sampling periods with exact fractions
+        # (Fraction(period * 10**9)); a float period such as 0.001 s gives 999999.99... ns and every
+        # bound fails that check. Pass the period as an exact fraction of whole nanoseconds.
+        spec.set_sampling_period(Fraction(max(1, round(dt_s * 1e9)), 10**9), "s", 0.1)
         try:
             import logging
 
@@ -207,11 +214,12 @@ def _spec(formula: str, names: tuple[str, ...], dt_s: float):
 def make_requirement(spec: RequirementSpec, layout: str, where: str, prefix: str,
                      default_baseline: tuple[str, ...] = ()) -> Requirement:
     if spec.kind == "no_worse_than_baseline":
-        formula = spec.formula or (f"rollback <= max({spec.rollback_floor_m:g} m, baseline rollback); "
+        metric = spec.metric
+        formula = spec.formula or (f"{metric} <= max({spec.rollback_floor_m:g}, baseline {metric}); "
                                    "no engine stall the baseline does not have")
         baseline = tuple(spec.baseline) or default_baseline or ("vehicle.hill_start_assist.enabled_flag=0",)
         return Requirement(spec.id, formula, spec.why, spec.unit or "m", spec.kind, spec.expect, spec.rollback_floor_m,
-                           baseline, ("position_m",))
+                           baseline, ("position_m",), metric)
     if not spec.formula:
         raise InputError(f"{where}: {prefix}.formula: required for an STL requirement")
     try:
@@ -260,7 +268,8 @@ def _load_file_cached(path_text: str, mtime: int) -> tuple[RequirementFile, dict
         if full in reqs:
             raise InputError(f"{path}: requirements.{i}.id = {spec.id!r}: defined twice")
         r = make_requirement(spec, model.layout, str(path), f"requirements.{i}", tuple(model.baseline))
-        reqs[full] = Requirement(full, r.formula, r.why, r.unit, r.kind, r.expect, r.rollback_floor_m, r.baseline, r.channels)
+        reqs[full] = Requirement(full, r.formula, r.why, r.unit, r.kind, r.expect, r.rollback_floor_m, r.baseline, r.channels,
+                                 r.metric)
     return model, reqs
 
 
@@ -305,7 +314,7 @@ def resolve(specs, layout: str, where: str) -> list[Requirement]:
                     raise InputError(f"{where}: {prefix} = {item.id!r}: reads channel {_ok[0]!r}, which layout {layout} has not")
             if item.expect != "pass":
                 req = Requirement(req.id, req.formula, req.why, req.unit, req.kind, item.expect, req.rollback_floor_m,
-                                  req.baseline, req.channels)
+                                  req.baseline, req.channels, req.metric)
             out.append(req)
         else:
             out.append(make_requirement(item, layout, where, prefix))
@@ -342,7 +351,12 @@ def robustness(req: Requirement, trace) -> float:
     t = np.asarray(trace["time_s"], dtype=float)
     dt = float(np.median(np.diff(t))) if len(t) > 1 else 0.01
     spec = _spec(req.formula, names, dt)
-    rob = spec.evaluate(monitor_inputs(trace, list(names)))
+    try:
+        rob = spec.evaluate(monitor_inputs(trace, list(names)))
+    except Exception as exc:  # rtamt's own exception types (e.g. a bound that is not a whole number of samples)
+        text = " ".join(str(exc).split()).replace("RTAMT Exception: ", "")
+        raise InputError(f"requirement {req.id}: {req.formula!r} cannot be evaluated on a trace recorded every "
+                         f"{dt:g} s: {text}; choose run.record_period_s that divides the formula's time bounds") from None
     value = float(rob[0][1]) if rob else float("nan")
     return value
 
@@ -350,8 +364,8 @@ def robustness(req: Requirement, trace) -> float:
 def comparative_robustness(req: Requirement, metrics: dict, baseline_metrics: dict) -> float:
     """``max(floor, baseline rollback) - rollback`` [m]; STALL_PENALTY if the assisted run stalls and the
     baseline does not (issue #7 item 1: never worse than no assist)."""
-    rb = float(metrics.get("rollback_distance_m", float("nan")))
-    rb0 = float(baseline_metrics.get("rollback_distance_m", float("nan")))
+    rb = float(metrics.get(req.metric, float("nan")))
+    rb0 = float(baseline_metrics.get(req.metric, float("nan")))
     r = max(req.rollback_floor_m, rb0) - rb
     if metrics.get("engine_stalled_flag", 0.0) >= 0.5 and baseline_metrics.get("engine_stalled_flag", 0.0) < 0.5:
         r = min(r, STALL_PENALTY)
@@ -364,8 +378,10 @@ def evaluate(reqs: list[Requirement], trace, metrics: dict | None = None, baseli
     for r in reqs:
         if r.comparative:
             value = comparative_robustness(r, metrics or {}, baseline_metrics or {})
-            detail = {"rollback_m": (metrics or {}).get("rollback_distance_m"),
-                      "baseline_rollback_m": (baseline_metrics or {}).get("rollback_distance_m")}
+            detail = ({"rollback_m": (metrics or {}).get("rollback_distance_m"),
+                       "baseline_rollback_m": (baseline_metrics or {}).get("rollback_distance_m")}
+                      if r.metric == "rollback_distance_m" else
+                      {r.metric: (metrics or {}).get(r.metric), f"baseline_{r.metric}": (baseline_metrics or {}).get(r.metric)})
         else:
             value, detail = robustness(r, trace), {}
         out.append(RequirementResult(r.id, value, r.unit, r.formula, r.why, r.expect, detail))
