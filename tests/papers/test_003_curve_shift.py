@@ -47,9 +47,9 @@ def test_lift_off_upshift_only_without_strategy(results):
 
 def test_kj_classes_p12(results):
     m = {v: results[f"curve_s{v}"].metrics for v in CASES}
-    assert m[80]["kj_frac_max"] == 1.0 and m[80]["kj_ratio_max"] > 0  # kj = kj_max
-    assert 0.0 < m[65]["kj_frac_max"] < 1.0  # between
-    assert m[48]["kj_ratio_max"] == 0.0  # zero
+    assert m[80]["kj_advance_max_frac"] == 1.0 and m[80]["kj_used_max_ratio"] > 0  # kj = kj_max
+    assert 0.0 < m[65]["kj_advance_max_frac"] < 1.0  # between
+    assert m[48]["kj_used_max_ratio"] == 0.0  # zero
     assert results["curve_s70"].metrics["gear_drop_max_count"] >= 2  # skip shift, criterion 7
 
 

@@ -16,14 +16,14 @@ Values are NaN when the event does not occur (a check on a NaN fails).
   speed - u_a(line below the engaged gear, theta) (criterion 3: >= 0, never later than normal).
 * ``engine_speed_after_downshift_max_radps``: highest engine speed in the 0.2 s after a downshift engages
   (criterion 4: <= n_guard).
-* ``kj_ratio_max``, ``kj_frac_max``, ``kj_excess_max_ratio`` = max(kj - kj_max) (criterion 5: <= 0).
+* ``kj_used_max_ratio``, ``kj_advance_max_frac``, ``kj_excess_max_ratio`` = max(kj - kj_max) (criterion 5: <= 0).
 * ``gear_at_curve_entry_index``: commanded gear at curve entry (criterion 6); ``gear_drop_max_count``: largest
   drop in one command (criterion 7: >= 2 is a skip shift).
 * ``lateral_accel_max_mps2`` (|a_y|) and ``curve_accel_margin_min_mps2`` = min over the curve phase of
   a_ypot(R) - a_y (criterion 8: >= 0).
 * ``time_straight_s``, ``time_approach_s``, ``time_curve_s``, ``time_exit_s``: time per driver phase.
-* ``engine_work_per_distance_j_per_m``: positive engine work over distance (fuel proxy: holding low gears
-  raises the engine speed and the friction work; J/m = kJ/km).
+* ``engine_work_per_distance_n``: positive engine work over distance (fuel proxy: holding low gears
+  raises the engine speed and the friction work; in J/m = N = kJ/km).
 """
 from __future__ import annotations
 
@@ -158,11 +158,11 @@ def engine_speed_after_downshift_max_radps(trace):
     return _per_row(trace, ("gear_index", "engine_speed_radps"), f)
 
 
-def kj_ratio_max(trace):
+def kj_used_max_ratio(trace):
     return _per_row(trace, ("kj_ratio",), lambda r: float(np.max(r["kj_ratio"])))
 
 
-def kj_frac_max(trace):
+def kj_advance_max_frac(trace):
     return _per_row(trace, ("kj_frac",), lambda r: float(np.max(r["kj_frac"])))
 
 
@@ -207,7 +207,7 @@ def _phase_time(phase: float):
     return metric
 
 
-def engine_work_per_distance_j_per_m(trace):
+def engine_work_per_distance_n(trace):
     def f(r):
         work = np.trapezoid(np.maximum(r["engine_power_w"], 0.0), r["time_s"])
         dist = r["position_m"][-1] - r["position_m"][0]
@@ -234,8 +234,8 @@ for _m in (
            "smallest speed above the normal downshift line over the downshifts in curve mode"),
     Metric("engine_speed_after_downshift_max_radps", engine_speed_after_downshift_max_radps, ("gear_index", "engine_speed_radps"),
            "highest engine speed within 0.2 s after a downshift engages"),
-    Metric("kj_ratio_max", kj_ratio_max, ("kj_ratio",), "largest downshift advance kj used"),
-    Metric("kj_frac_max", kj_frac_max, ("kj_frac",), "largest kj/kj_max fraction of a curve command"),
+    Metric("kj_used_max_ratio", kj_used_max_ratio, ("kj_ratio",), "largest downshift advance kj used"),
+    Metric("kj_advance_max_frac", kj_advance_max_frac, ("kj_frac",), "largest kj/kj_max fraction of a curve command"),
     Metric("kj_excess_max_ratio", kj_excess_max_ratio, ("kj_ratio", "kj_max_ratio"), "largest kj - kj_max (<= 0)"),
     Metric("gear_at_curve_entry_index", gear_at_curve_entry_index, _GEAR + ("driver_phase_index",), "commanded gear at curve entry"),
     Metric("gear_drop_max_count", gear_drop_max_count, _GEAR, "largest gear drop in one shift command"),
@@ -247,7 +247,7 @@ for _m in (
     Metric("time_approach_s", _phase_time(APPROACH), ("driver_phase_index",), "time in the approach phase"),
     Metric("time_curve_s", _phase_time(CURVE), ("driver_phase_index",), "time in the curve phase"),
     Metric("time_exit_s", _phase_time(EXIT), ("driver_phase_index",), "time in the exit phase"),
-    Metric("engine_work_per_distance_j_per_m", engine_work_per_distance_j_per_m, ("engine_power_w", "position_m"),
+    Metric("engine_work_per_distance_n", engine_work_per_distance_n, ("engine_power_w", "position_m"),
            "positive engine work per distance (fuel proxy)"),
 ):
     register(_m)

@@ -168,8 +168,8 @@ def pairs_extra(out_dir: Path):
                         "value": gs - gb, "unit": "1", "bound": "< 0" if strict else "<= 0",
                         "pass": bool(gs < gb if strict else gs <= gb),
                         "why": f"curve_shift.md 8 criterion 6 (issue #11: lower or equal, strictly lower at 80 km/h); {shifts}"})
-        work_on = on.metrics["engine_work_per_distance_j_per_m"]
-        work_off = off.metrics["engine_work_per_distance_j_per_m"]
+        work_on = on.metrics["engine_work_per_distance_n"]
+        work_off = off.metrics["engine_work_per_distance_n"]
         entries.append({"paper": "003", "scenario": f"{s_name} vs {b_name}",
                         "criterion": "engine work per km, strategy / normal schedule (fuel proxy, reported)",
                         "negative_control": False, "value": work_on / work_off, "unit": "1", "bound": "report only",
@@ -196,12 +196,12 @@ def kj_map(radii=RADII_M, speeds=SPEEDS_KPH):
             gear = 5 if v >= 60 else (4 if v >= 50 else 3)
             variants.append(base.with_sets(f"vehicle.map_preview.radius_scale_frac={r / 65.0!r}",
                                            f"run.initial_speed_kph={v!r}", f'driver.gear_lever={{time_s=[0], gear=["{gear}"]}}'))
-    res = simulate_batch(variants, metric_names=["kj_frac_max", "gear_at_curve_entry_index",
+    res = simulate_batch(variants, metric_names=["kj_advance_max_frac", "gear_at_curve_entry_index",
                                                  "engine_speed_after_downshift_max_radps", "upshifts_in_curve_mode_count",
                                                  "kj_excess_max_ratio"])
     shape = (len(radii), len(speeds))
     get = lambda k: np.array([m[k] for m in res.metrics]).reshape(shape)  # noqa: E731
-    return (get("kj_frac_max"), get("gear_at_curve_entry_index"), get("engine_speed_after_downshift_max_radps"),
+    return (get("kj_advance_max_frac"), get("gear_at_curve_entry_index"), get("engine_speed_after_downshift_max_radps"),
             get("upshifts_in_curve_mode_count"), get("kj_excess_max_ratio"))
 
 
