@@ -50,7 +50,7 @@ def test_run_prints_events_with_chatter_merged(runs):
     _, _, _, rb = runs
     assert "events" in rb.output and "kiss_point_reached" in rb.output
     # the stick/slip chatter of the no-assist start is one row that counts its changes, not 100+ rows
-    assert re.search(r"\d{2,} changes between HELD/MOVING", rb.output), rb.output
+    assert re.search(r"\d{2,} changes between", rb.output), rb.output  # (the table may wrap the rest)
     assert rb.output.count("static_friction_holds") < 5
 
 
@@ -123,12 +123,16 @@ def test_show_gives_nm_per_rpm_its_unit():
 
 
 def test_check_bounds_are_also_shown_in_display_units():
-    """engine_speed_peak_radps bounds: 172.79 rad/s = 1650 rpm (x 30/pi)."""
-    res = invoke("run", "hsa_truck_full_14deg_8p0bar", "--out", "/tmp/va-unused-out-12", "--no-plot",
-                 "--set", "run.duration_s=1", env={**WIDE, "COLUMNS": "250"})
-    line = next(l for l in res.output.splitlines() if "engine_speed_peak_radps" in l and ">=" in l)
-    low = float(re.search(r">= ([\d.]+) and", line).group(1))
-    assert f"{low * 30 / np.pi:.4g} rpm" in line
+    """engine_speed_peak_radps bounds in rad/s also in rpm (x 30/pi); m/s also in km/h (x 3.6)."""
+    import vehicle_assist as va
+    from vehicle_assist.cli import _bound_display
+
+    r = va.simulate(va.load_scenario("hsa_truck_full_14deg_8p0bar", {"run.duration_s": 1}))
+    c = next(c for c in r.checks if c.metric == "engine_speed_peak_radps")
+    text = _bound_display(c.metric, c)
+    assert text.startswith(c.bound) and f"{c.min * 30 / np.pi:.4g} rpm" in text and f"{c.max * 30 / np.pi:.4g} rpm" in text
+    c = next(c for c in r.checks if c.metric == "rollback_speed_mps")
+    assert f"<= {c.max * 3.6:.4g} km/h" in _bound_display(c.metric, c)
 
 
 def _names_whole(output: str, names) -> list[str]:
