@@ -27,6 +27,7 @@ def test_result_repr_is_short_and_has_html_and_pandas(tmp_path):
     r = va.simulate(va.load_scenario("hsa_truck_full_14deg_8p0bar", {"run.duration_s": 2}))
     assert len(repr(r)) < 200 and "hsa_truck_full_14deg_8p0bar" in repr(r)
     assert len(repr(r.trace)) < 200
+    assert len(repr(r.scenario)) < 200 and len(repr(r.scenario.vehicle)) < 200
     html = r._repr_html_()
     assert "<table>" in html and "rollback_distance_m" in html
     df = r.to_pandas()

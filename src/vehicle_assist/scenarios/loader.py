@@ -92,12 +92,15 @@ def deep_merge(base: dict, over: dict) -> dict:
 
 
 # --------------------------------------------------------------------------------------------- vehicles
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Vehicle:
     model: BaseModel
     sources: dict[str, str]
     path: Path
     raw: dict
+
+    def __repr__(self) -> str:
+        return f"<Vehicle {self.model.name} (layout {self.model.layout}, {self.path.name})>"
 
     @property
     def layout(self) -> str:
@@ -265,9 +268,13 @@ def _check_vehicle_override_keys(vehicle_raw: dict, overrides: dict, where: str)
 
 
 # --------------------------------------------------------------------------------------------- scenarios
-@dataclass
+@dataclass(repr=False)
 class LoadedScenario:
     """A validated scenario with its vehicle, ready to simulate."""
+
+    def __repr__(self) -> str:  # one line (the dataclass repr printed ~25,000 characters of raw data)
+        sets = f", {len(self.sets)} overrides" if self.sets else ""
+        return f"<LoadedScenario {self.model.name} (vehicle {self.vehicle.model.name}, layout {self.layout}{sets})>"
 
     model: Scenario
     vehicle: Vehicle
