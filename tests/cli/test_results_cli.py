@@ -149,3 +149,24 @@ def test_list_and_metrics_at_80_columns_keep_every_name_whole():
     assert not _names_whole(res.output, list(METRICS))
     needed = {c for m in METRICS.values() for c in m.requires}
     assert not _names_whole(res.output, needed)
+
+
+def test_reproduce_output_at_80_columns_keeps_every_scenario_name_whole():
+    """`reproduce` prints each scenario name on its own line: at 80 columns no name is cut or wrapped (names
+    from the registered reproductions, longer ones than fit in a table column included)."""
+    import io
+
+    from rich.console import Console
+
+    from vehicle_assist.procedures.reproduce import REPRODUCTIONS
+    from vehicle_assist.procedures.run import print_entries
+
+    entries = [{"paper": rep.paper, "scenario": name, "criterion": "rollback_distance_m", "value": 0.0, "unit": "m",
+                "bound": "<= 0.01", "pass": True, "negative_control": "no_assist" in name}
+               for rep in REPRODUCTIONS for name in rep.scenarios]
+    buffer = io.StringIO()
+    print_entries(Console(file=buffer, width=80, no_color=True), REPRODUCTIONS, entries)
+    lines = buffer.getvalue().splitlines()
+    for e in entries:
+        assert f"  {e['scenario']}" in lines, e["scenario"]
+    assert any("fails as required" in line for line in lines)

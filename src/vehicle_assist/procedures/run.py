@@ -76,7 +76,18 @@ def run_reproductions(out: Path, console: Console | None = None, papers: Sequenc
                 figures.extend(extra_figures)
                 entries.extend({**e, "section": e.get("section") or f"study: {extra.replace('_', ' ')}"}
                                for e in extra_entries)
-    for rep in selected:
+    print_entries(console, selected, entries)
+    write_json(entries, out / "summary.json")
+    page = write_reproduce_page(entries, figures, out / "index.html", "vehicle-assist: paper reproductions",
+                                papers={rep.paper: rep.title for rep in selected}, scenario_hashes=hashes)
+    console.print(f"wrote {out / 'summary.json'}, {page} and {len(figures)} figures in {figures_dir}")
+    return entries
+
+
+def print_entries(console: Console, reproductions, entries: list[dict]) -> None:
+    """The criteria per paper on the terminal: each scenario name on a line of its own, its criteria indented
+    below, so the names a user copies are never cut or wrapped, whatever the terminal width."""
+    for rep in reproductions:
         # one line per scenario name, its criteria indented below: names a user copies are never cut or
         # wrapped, whatever the terminal width
         console.print(f"[bold]paper {rep.paper}: {rep.title}[/]", highlight=False, soft_wrap=True)
@@ -95,8 +106,3 @@ def run_reproductions(out: Path, console: Console | None = None, papers: Sequenc
                 bound = e["bound"]
             console.print(f"    {mark} ", end="", highlight=False, soft_wrap=True)
             console.print(f"{e['criterion']} = {value}{unit} ({bound})", highlight=False, markup=False, soft_wrap=True)
-    write_json(entries, out / "summary.json")
-    page = write_reproduce_page(entries, figures, out / "index.html", "vehicle-assist: paper reproductions",
-                                papers={rep.paper: rep.title for rep in selected}, scenario_hashes=hashes)
-    console.print(f"wrote {out / 'summary.json'}, {page} and {len(figures)} figures in {figures_dir}")
-    return entries
