@@ -78,10 +78,12 @@ def test_without_abs_the_wheels_lock() -> None:
 
 
 def test_paper_002_is_registered_in_reproduce() -> None:
-    """`vehicle-assist reproduce` runs every hba_* scenario and the three paper-002 studies."""
+    """`vehicle-assist reproduce` runs every hba_* scenario, the three paper-002 studies and the issue #9 envelope
+    study and falsification campaign (verification/campaign.py)."""
     from vehicle_assist.procedures.reproduce import EXTRAS
     from tests.support import reproduction
 
     rep = reproduction("002")
     assert set(rep.scenarios) == set(SCENARIOS)
-    assert all(e in EXTRAS for e in rep.extras) and set(rep.extras) == {"hba_benefit", "r139", "hba_calibration"}
+    assert all(e in EXTRAS for e in rep.extras) and set(rep.extras) == {"hba_benefit", "r139", "hba_calibration",
+                                                                     "envelope_002", "falsify_002"}

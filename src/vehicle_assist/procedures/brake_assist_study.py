@@ -82,7 +82,7 @@ def reproduction():
         "braking, low speed, wet, snow, split-mu, faults, and the UN R139 category B test",
         scenarios, figures=("brake_assist",),
         figure_scenarios=("hba_paper_110kph_dry", "hba_off_110kph_dry", "hba_exit_by_release_110kph", "hba_split_mu_80kph"),
-        extras=("hba_benefit", "r139", "hba_calibration"))
+        extras=("hba_benefit", "r139", "hba_calibration", "envelope_002", "falsify_002"))  # issue #9 envelope + campaign
 
 
 def calibration_extra(out_dir: Path):

@@ -108,7 +108,7 @@ def _verification_extras() -> dict:
 
 
 EXTRAS.update({name: (lambda out, _n=name: _verification_extras()[_n](out))
-               for name in ("envelope_000", "falsify_000", "envelope_001", "falsify_001")})
+               for name in ("envelope_000", "falsify_000", "envelope_001", "falsify_001", "envelope_002", "falsify_002")})
 
 
 def register(reproduction: Reproduction) -> None:

@@ -40,6 +40,7 @@ DENSE_GRIDS = {
 CAMPAIGN_SEED = 2026
 CAMPAIGN_BUDGET = 128
 CAMPAIGN_BATCH = 8
+CAMPAIGN_BUDGET_OF = {"002": 64}  # 5 campaigns of 20-s braking runs: 64 each keeps reproduce within minutes
 CAMPAIGNS = {
     "000": ("hill_start_amt", [("hill_start_amt.no_worse_than_no_assist", {}), ("hill_start_amt.no_rollback", {}),
                                ("hill_start_amt.no_stall", {})]),
@@ -49,8 +50,20 @@ CAMPAIGNS = {
                                # the paper's jerk claim is for its driver: steady pedal, rates up to 2x the paper's
                                ("hill_start_ehb.jerk", {"driver": ["steady"], "accelerator.rate_per_s": (0.01, 0.045),
                                                         "slope": (1.0, 25.0)})]),
+    # paper 002 (issue #9): HBA and ABS on the ESP sedan (data/envelopes/brake_assist.toml)
+    "002": ("brake_assist", [("brake_assist.no_worse_than_no_hba", {}), ("brake_assist.no_wheel_stop_while_moving", {}),
+                             ("brake_assist.build_not_below_master", {}),
+                             # paper 002 P11 / brake_assist.md 8 criterion 2: the normal drivers of the envelope
+                             # (procedures/hba_calibration.py population: 40-250 N in 0.08-1.5 s) ...
+                             ("brake_assist.no_false_activation", {"brake.rate_per_s": (0.027, 3.1),
+                                                                   "brake.level_frac": (0.04, 0.25)}),
+                             # ... and any driver below V_ON = 15 km/h (paper 002 P10, brake_assist.md 7 S3)
+                             ("brake_assist.no_false_activation", {"speed": (10.0, 14.9)})]),
 }
-PAPER_OF = {"hill_start_amt": "000", "hill_start_ehb": "001"}
+PAPER_OF = {"hill_start_amt": "000", "hill_start_ehb": "001", "brake_assist": "002"}
+BRAKE_STUDY_POINTS = 64  # Sobol points of the 002 envelope study in reproduce (each with its HBA-off twin)
+NORMAL_RATE_MAX_PER_S = 3.1  # hba_calibration.py population: 250 N in 0.08 s = 3.1 /s of the 1000 N full scale
+V_ON_KPH = 15.0  # paper 002 P10
 
 
 def _entry(paper, scenario, criterion, value, unit, bound, passed, why):
@@ -107,18 +120,20 @@ def envelope_extra(function: str, out_dir: Path, levels: dict | None = None):
     return figures, envelope_entries(summary, paper)
 
 
-def falsify_extra(paper: str, out_dir: Path, budget: int = CAMPAIGN_BUDGET, seed: int = CAMPAIGN_SEED):
+def falsify_extra(paper: str, out_dir: Path, budget: int | None = None, seed: int = CAMPAIGN_SEED):
     from vehicle_assist.verification.envelope import load_envelope
     from vehicle_assist.verification.falsify import run_falsification, write_falsification
 
     function, campaigns = CAMPAIGNS[paper]
+    budget = budget or CAMPAIGN_BUDGET_OF.get(paper, CAMPAIGN_BUDGET)
     figures, entries = [], []
-    for rid, limits in campaigns:
+    for k, (rid, limits) in enumerate(campaigns):
         env = load_envelope(function)
         if limits:
             env = env.restrict(**limits)
         res = run_falsification(env, rid, budget=budget, seed=seed, optimizer="cma", batch=CAMPAIGN_BATCH, progress=False)
-        out = Path(out_dir) / f"falsify_{rid.replace('.', '_')}"
+        out = Path(out_dir) / (f"falsify_{rid.replace('.', '_')}"
+                               + (f"_{k}" if [r for r, _ in campaigns].count(rid) > 1 else ""))
         paths = write_falsification(res, out)
         cex = res.counterexample
         where = f" over {', '.join(f'{k} {v}' for k, v in limits.items())}" if limits else ""
@@ -138,10 +153,86 @@ def falsify_extra(paper: str, out_dir: Path, budget: int = CAMPAIGN_BUDGET, seed
     return figures, entries
 
 
+def brake_assist_envelope_extra(out_dir: Path, n: int = BRAKE_STUDY_POINTS, seed: int = CAMPAIGN_SEED):
+    """Envelope study of paper 002: ``n`` Sobol points of data/envelopes/brake_assist.toml, each with its HBA-off
+    twin. Criteria: stopping distance with HBA <= without at every point (issue #9, conventions.md 'Evidence');
+    no wheel reaches 0 while v > 5 km/h (brake_assist.md 8 criterion 5); no activation of a normal driver (rate
+    <= 3.1 /s) or below 15 km/h (paper 002 P11/P10, criterion 2)."""
+    import csv
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from vehicle_assist.scenarios.runner import simulate_batch
+    from vehicle_assist.verification.envelope import load_envelope
+
+    env = load_envelope("brake_assist")
+    _, points = env.sample(n, method="sobol", seed=seed)
+    names = ["stopping_distance_m", "hba_activated_flag", "wheel_stopped_moving_flag", "final_speed_mps"]
+    res = simulate_batch([env.scenario(p) for p in points] + [env.scenario(p, baseline=True) for p in points],
+                         metric_names=names)
+    on, off = res.metrics[:n], res.metrics[n:]
+    d_on = np.array([m["stopping_distance_m"] for m in on])
+    d_off = np.array([m["stopping_distance_m"] for m in off])
+    margin = d_off - d_on
+    act = np.array([m["hba_activated_flag"] >= 0.5 for m in on])
+    normal = np.array([p["brake.rate_per_s"] <= NORMAL_RATE_MAX_PER_S for p in points])
+    slow = np.array([p["speed"] < V_ON_KPH for p in points])
+    stopped = np.array([m["wheel_stopped_moving_flag"] >= 0.5 for m in on])
+    stopped0 = np.array([m["wheel_stopped_moving_flag"] >= 0.5 for m in off])
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    table = out / "brake_assist_envelope.csv"
+    with table.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(list(points[0]) + ["stopping_m_hba", "stopping_m_off", "margin_m", "hba_activated", "wheel_stopped"])
+        for p, a, b, c, e, f in zip(points, d_on, d_off, margin, act, stopped):
+            w.writerow(list(p.values()) + [f"{a:.3f}", f"{b:.3f}", f"{c:.3f}", int(e), int(f)])
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+    ax[0].scatter(d_off, d_on, c=np.where(act, "tab:red", "tab:blue"), s=12)
+    lim = [0, float(np.nanmax(np.r_[d_on, d_off])) * 1.05]
+    ax[0].plot(lim, lim, "k--", lw=0.8)
+    ax[0].set_xlabel("stopping distance, HBA off [m]")
+    ax[0].set_ylabel("stopping distance, HBA on [m]")
+    ax[0].set_title("red: HBA activated", fontsize=9)
+    ax[1].scatter([p["brake.rate_per_s"] for p in points], margin, c=np.where(act, "tab:red", "tab:blue"), s=12)
+    ax[1].set_xscale("log")
+    ax[1].axhline(0, color="k", lw=0.8)
+    ax[1].set_xlabel("pedal rate [1/s of 1000 N]")
+    ax[1].set_ylabel("distance saved by HBA [m]")
+    fig.tight_layout()
+    figure = out / "brake_assist_envelope.png"
+    fig.savefig(figure, dpi=110)
+    plt.close(fig)
+    scen = f"envelope brake_assist ({n} Sobol points x 2 runs, seed {seed})"
+    i = int(np.nanargmin(margin))
+    worst = f"[{env.point_name(points[i])}] {d_on[i]:.2f} m with vs {d_off[i]:.2f} m without"
+    fa_normal = int(np.sum(act & normal))
+    fa_slow = int(np.sum(act & slow))
+    entries = [
+        _entry("002", scen, "never worse than HBA off: min(stopping distance off - on)", float(np.nanmin(margin)), "m",
+               ">= 0", bool(np.nanmin(margin) >= 0) and np.all(np.isfinite(margin)),
+               f"issue #9 and conventions.md 'Evidence'; {int(np.sum(margin < 0))} points longer with HBA; worst {worst}; "
+               f"HBA activated at {int(act.sum())} points; table {table.name}"),
+        _entry("002", scen, "points where a wheel reached 0 while v > 5 km/h (HBA on)", int(stopped.sum()), "-", "<= 0",
+               int(stopped.sum()) == 0, f"brake_assist.md 8 criterion 5; with HBA off {int(stopped0.sum())}"),
+        _entry("002", scen, f"activations of normal drivers (rate <= {NORMAL_RATE_MAX_PER_S} /s, {int(normal.sum())} points) "
+                            f"or below 15 km/h ({int(slow.sum())} points)", fa_normal + fa_slow, "-", "<= 0",
+               fa_normal + fa_slow == 0, f"paper 002 P11 and P10, brake_assist.md 8 criterion 2; normal {fa_normal}, "
+                                         f"below 15 km/h {fa_slow}"),
+    ]
+    return [(f"paper 002: envelope study of the brake assist ({n} points with their HBA-off twins)", figure)], entries
+
+
 def reproduce_extras() -> dict:
     return {
         "envelope_000": lambda out: envelope_extra("hill_start_amt", out),
         "envelope_001": lambda out: envelope_extra("hill_start_ehb", out),
         "falsify_000": lambda out: falsify_extra("000", out),
         "falsify_001": lambda out: falsify_extra("001", out),
+        "envelope_002": lambda out: brake_assist_envelope_extra(out),
+        "falsify_002": lambda out: falsify_extra("002", out),
     }

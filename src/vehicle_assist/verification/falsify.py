@@ -91,6 +91,8 @@ def evaluate_points(env: Envelope, req: Requirement, points: list[dict], workers
     from vehicle_assist.scenarios.runner import simulate_batch
 
     names = _metric_names(env.layout)
+    if req.comparative and req.metric not in names:
+        names = [*names, req.metric]
     scenarios = [env.scenario(p) for p in points]
     if req.comparative:
         twins = [env.scenario(p, baseline=True) for p in points]
