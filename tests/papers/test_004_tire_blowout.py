@@ -33,3 +33,18 @@ def test_studies(tmp_path):
     assert figs and all(e["pass"] for e in entries)
     figs, entries = reproduce.EXTRAS["blowout_sweep"](tmp_path)
     assert figs and entries
+
+
+def test_envelope_and_requirements_load():
+    """data/envelopes/tire_blowout.toml and data/requirements/tire_blowout.toml validate (sources, paths)."""
+    from vehicle_assist.verification.envelope import load_envelope
+
+    env = load_envelope("tire_blowout")
+    assert env is not None
+
+
+@pytest.mark.slow
+def test_falsification_campaign(tmp_path):
+    """The campaign runs and reports one entry per requirement."""
+    figs, entries = reproduce.EXTRAS["falsify_004"](tmp_path)
+    assert len(entries) == 2

@@ -148,6 +148,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
 
     # ABS per wheel
     abs_allowed = abs_ok and bls and v_ref > p.esp_abs_min_speed_mps
+    comp_wheel = int(bst[bc.S_TARGET]) if int(bst[bc.S_MODE]) != bc.IDLE else -1  # blowout compensation brakes it
     for i in range(4):
         vw = vw0 if i == 0 else vw1 if i == 1 else vw2 if i == 2 else vw3
         slip = (v_ref - vw) / max(v_ref, 1.0)
@@ -156,7 +157,9 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         wheels[i, A_SLIP] = slip
         wheels[i, A_DECEL] = a_w
         mode = int(wheels[i, A_MODE])
-        new, reason = abs_fn.abs_step(mode, wheels[i, A_BUILD_S], slip, a_w, abs_allowed, p.esp_abs_dump_slip_frac,
+        # ABS also guards the wheel the blowout compensation brakes without the driver (slip control, issue #10)
+        allowed_i = abs_allowed or (abs_ok and i == comp_wheel and v_ref > p.esp_abs_min_speed_mps)
+        new, reason = abs_fn.abs_step(mode, wheels[i, A_BUILD_S], slip, a_w, allowed_i, p.esp_abs_dump_slip_frac,
                                       p.esp_abs_hold_slip_frac, p.esp_abs_dump_decel_mps2, p.esp_abs_rebuild_decel_mps2,
                                       p.esp_abs_idle_time_s,
                                       abs_fn.TABLE, abs_guards)

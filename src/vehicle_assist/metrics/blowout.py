@@ -58,13 +58,15 @@ def _window(t, t0, t1):
 def _yaw_peak(t, phi, mode, r):
     tb = blowout_time_s(t, phi, mode)
     w = _window(t, tb, tb + YAW_WINDOW_S)
-    return float(np.max(np.abs(r[w]))) if np.any(w) else 0.0
+    return float(np.max(np.abs(r[w] - _at(t, r, tb)))) if np.any(w) else 0.0
 
 
 def _yaw_rms(t, phi, mode, r):
+    """RMS of the yaw-rate change since t_b (0 before a blowout on a straight; the curve's steady yaw rate
+    is not counted)."""
     tb = blowout_time_s(t, phi, mode)
     w = _window(t, tb, tb + YAW_WINDOW_S)
-    return float(np.sqrt(np.mean(r[w] ** 2))) if np.any(w) else 0.0
+    return float(np.sqrt(np.mean((r[w] - _at(t, r, tb)) ** 2))) if np.any(w) else 0.0
 
 
 def _at(t, x, tq):
@@ -129,8 +131,8 @@ def _balance(t, phi, mode, det, tv, m_est, m_z):
 _BASE = ("blowout_frac", "blowout_mode_index")
 PRESSURES = tuple(f"wheel_pressure_{w}_pa" for w in W)
 _DEFS = [
-    ("blowout_yaw_rate_peak_radps", _yaw_peak, _BASE + ("yaw_rate_radps",), "peak |yaw rate| in [t_b, t_b + 2 s]"),
-    ("blowout_yaw_rate_rms_radps", _yaw_rms, _BASE + ("yaw_rate_radps",), "RMS yaw rate in [t_b, t_b + 2 s]"),
+    ("blowout_yaw_rate_peak_radps", _yaw_peak, _BASE + ("yaw_rate_radps",), "peak |yaw rate - r(t_b)| in [t_b, t_b + 2 s]"),
+    ("blowout_yaw_rate_rms_radps", _yaw_rms, _BASE + ("yaw_rate_radps",), "RMS of yaw rate - r(t_b) in [t_b, t_b + 2 s]"),
     ("blowout_lateral_deviation_3s_m", _dev_3s, _BASE + ("lane_offset_m",), "|lane offset change| at t_b + 3 s"),
     ("blowout_lateral_deviation_max_m", _dev_max, _BASE + ("lane_offset_m",), "max |lane offset change| in [t_b, t_b + 3 s]"),
     ("blowout_heading_error_3s_rad", _dev_3s, _BASE + ("lane_heading_error_rad",), "|heading error change| at t_b + 3 s"),

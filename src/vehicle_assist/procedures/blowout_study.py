@@ -54,7 +54,7 @@ def reproduction():
         "and without compensation, mirror and rear blowouts, curve, low friction, panic stop, faults",
         SCENARIOS, figures=("tire_blowout",),
         figure_scenarios=("blowout_lf_60kph_paper", "blowout_lf_60kph_off", "blowout_panic_stop_80kph"),
-        extras=("blowout_fig4", "blowout_sweep"))
+        extras=("blowout_fig4", "blowout_sweep", "falsify_004"))
 
 
 def _variants(on: bool, wheel: int, speed_kph: float, delay_s: float | None = None):
@@ -217,4 +217,35 @@ def sweep_extra(out_dir: Path):
     return [("paper 004: lateral deviation sweep (speed x wheel x detection delay)", fig_path)], [entry]
 
 
-EXTRAS = {"blowout_fig4": fig4_extra, "blowout_sweep": sweep_extra}
+FALSIFY_BUDGET = 48  # CMA-ES evaluations per requirement (5-s runs; keeps reproduce within a minute)
+FALSIFY_SEED = 2026
+
+
+def falsify_extra(out_dir: Path):
+    """Falsification of data/requirements/tire_blowout.toml over data/envelopes/tire_blowout.toml (issue #10:
+    requirements and an envelope for the falsification engine, with a campaign in reproduce)."""
+    from vehicle_assist.verification.falsify import run_falsification, write_falsification
+
+    figures, entries = [], []
+    for rid in ("tire_blowout.no_worse_than_no_compensation", "tire_blowout.stay_in_lane"):
+        res = run_falsification("tire_blowout", rid, budget=FALSIFY_BUDGET, seed=FALSIFY_SEED, optimizer="cma", batch=8,
+                                progress=False)
+        paths = write_falsification(res, Path(out_dir) / f"falsify_{rid.replace('.', '_')}")
+        cex = res.counterexample
+        if cex is not None:
+            figures.append((f"paper 004: counterexample of {rid}", paths["plot"]))
+            why = (f"counterexample after {res.evaluations_to_first} evaluations at [{res.envelope.point_name(cex.point)}]; "
+                   f"reproduce: vehicle-assist run {paths['scenario']}; requirement: {res.requirement.why}")
+            value = cex.robustness
+        else:
+            why = (f"CMA-ES seed {FALSIFY_SEED}, {len(res.evaluations)} evaluations; minimum robustness at "
+                   f"[{res.envelope.point_name(res.best.point)}]; requirement: {res.requirement.why}")
+            value = res.best.robustness
+        entries.append({"paper": "004", "scenario": f"falsification of {rid} (budget {FALSIFY_BUDGET}, seed {FALSIFY_SEED})",
+                        "criterion": f"no counterexample in {FALSIFY_BUDGET} evaluations (robustness: minimum found)",
+                        "negative_control": False, "value": value, "unit": res.requirement.unit, "bound": ">= 0",
+                        "pass": cex is None, "why": why})
+    return figures, entries
+
+
+EXTRAS = {"blowout_fig4": fig4_extra, "blowout_sweep": sweep_extra, "falsify_004": falsify_extra}
