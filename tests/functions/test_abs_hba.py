@@ -142,3 +142,27 @@ def test_scenario_rows_logged_in_the_paper_run() -> None:
     for row in (("OFF", "DUMP", "lock_threatened"), ("DUMP", "HOLD", "slip_recovering"), ("HOLD", "BUILD", "slip_recovered"),
                 ("BUILD", "HOLD", "slip_high"), ("HOLD", "DUMP", "lock_threatened"), ("BUILD", "OFF", "build_idle")):
         assert row in abs_rows, row
+
+
+def test_hba_thresholds_are_inclusive_as_the_paper_states(params) -> None:
+    """Reference: paper 002 P10 / brake_assist.md 3 - entry at master pressure >= 30 bar and speed >= 15 km/h,
+    exit at speed <= 5 km/h and master pressure <= 6 bar: exactly at each threshold the condition holds, a
+    little beyond it does not. (25 bar in 5 ms = 5000 bar/s latches the rate; the next sample is the probe.)"""
+    def entry(p_bar, v_kph):
+        return feed(params, [(0.0, v_kph, True, True, True, True), (25.0, v_kph, True, True, True, True),
+                             (p_bar, v_kph, True, True, True, True)])[1][-1][0]
+
+    assert entry(30.0, 100.0) == "ACTIVE"
+    assert entry(29.9, 100.0) == "INACTIVE"
+    assert entry(40.0, 15.0) == "ACTIVE"
+    assert entry(40.0, 14.9) == "INACTIVE"
+
+    def exit_(p_bar, v_kph):
+        st, out = feed(params, panic() + [(60.0, 90.0, True, True, True, False)])
+        assert out[-1][0] == "ACTIVE"
+        return feed(params, [(p_bar, v_kph, True, True, True, False)], st)[1][-1]
+
+    assert exit_(60.0, 5.0) == ("TERMINATING", "speed_below_exit")
+    assert exit_(60.0, 5.1)[0] == "ACTIVE"
+    assert exit_(6.0, 80.0)[0] == "TERMINATING"  # 6 bar also meets the drop rule; either guard is an exit
+    assert exit_(6.0, 80.0)[1] in ("pressure_below_exit", "pressure_dropped")
