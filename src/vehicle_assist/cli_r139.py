@@ -27,10 +27,15 @@ def register(app: typer.Typer) -> None:
         from vehicle_assist.procedures.r139 import NOT_CONFIRMED, run_r139
         from vehicle_assist.scenarios.errors import InputError
 
+        err = Console(stderr=True)
         try:
+            if out is not None:  # --out checked before anything runs (not '/', not a file or under one, writable)
+                from vehicle_assist.scenarios.guards import check_out_dir
+
+                out = check_out_dir(str(out))
             res = run_r139(list(set_ or []))
         except InputError as exc:
-            console.print(f"error: {exc}", markup=False, highlight=False, soft_wrap=True)
+            err.print(f"error: {exc}", markup=False, highlight=False, soft_wrap=True)
             raise typer.Exit(2)
         table = RichTable(title="UN R139 brake-assist test (category B), sedan_1p8t with HBA of paper 002")
         for col in ("quantity", "value", "bound", "result", "clause"):
@@ -49,9 +54,14 @@ def register(app: typer.Typer) -> None:
         console.print(f"verdict: {verdict} (regulation mode 0.85*a_ABS [recollection] and paper mode 0.70*a_ABS)",
                       markup=False)
         if out is not None:
-            out.mkdir(parents=True, exist_ok=True)
-            (out / "r139.json").write_text(json.dumps({"f_abs_n": res.f_abs_n, "a_abs_mps2": res.a_abs_mps2,
-                                                       "rows": res.rows, "hba_on": w, "hba_off": b,
-                                                       "verdict": verdict, "not_confirmed": list(NOT_CONFIRMED)},
-                                                      indent=2, default=float))
+            try:
+                out.mkdir(parents=True, exist_ok=True)
+                (out / "r139.json").write_text(json.dumps({"f_abs_n": res.f_abs_n, "a_abs_mps2": res.a_abs_mps2,
+                                                           "rows": res.rows, "hba_on": w, "hba_off": b,
+                                                           "verdict": verdict, "not_confirmed": list(NOT_CONFIRMED)},
+                                                          indent=2, default=float))
+            except OSError as exc:
+                err.print(f"error: cannot write {exc.filename or out} ({exc.strerror or exc.__class__.__name__}); "
+                          "free space or give another --out", markup=False, highlight=False, soft_wrap=True)
+                raise typer.Exit(2)
         raise typer.Exit(0 if res.passed else 1)

@@ -11,6 +11,7 @@ from typing import List, Optional
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table as RichTable
 
 console = Console()
@@ -40,6 +41,22 @@ def requirements_table(results, title: str = "requirements (robustness: signed d
     return table
 
 
+def _out(out: Path) -> Path:
+    """--out checked before anything runs (not empty, not '/', not a file or under one, writable)."""
+    from vehicle_assist.scenarios.errors import InputError
+    from vehicle_assist.scenarios.guards import check_out_dir
+
+    try:
+        return check_out_dir(str(out))
+    except InputError as exc:
+        _fail(str(exc))
+
+
+def _write_failed(exc: OSError, out: Path) -> None:
+    _fail(f"cannot write results to {exc.filename or out} ({exc.strerror or exc.__class__.__name__}); "
+          "free space or give another --out")
+
+
 def _check_budget(name: str, value: int, lo: int, hi: int) -> None:
     if not lo <= value <= hi:
         _fail(f"{name} = {value}: must be between {lo} and {hi}")
@@ -66,22 +83,25 @@ def falsify(
         _fail(f"--seed = {seed}: must be >= 0")
     if optimizer not in OPTIMIZERS:
         _fail(f"--optimizer = {optimizer!r}: use one of {', '.join(OPTIMIZERS)}")
+    out = _out(out)
     try:
         result = run_falsification(envelope, requirement, budget=budget, seed=seed, optimizer=optimizer, batch=batch,
                                    sets=list(set_ or []), stop_at_violation=not keep_going, console=console)
         paths = write_falsification(result, out)
     except InputError as exc:
         _fail(str(exc))
+    except OSError as exc:
+        _write_failed(exc, out)
     best = result.best
     unit = result.requirement.unit
     if result.counterexample is not None:
         console.print(f"[red]counterexample[/] after {result.evaluations_to_first} evaluations: robustness "
-                      f"{_num(result.counterexample.robustness)} {unit}\n  {result.envelope.point_name(result.counterexample.point)}")
-        console.print(f"reproduce it: vehicle-assist run {paths['scenario']}")
+                      f"{_num(result.counterexample.robustness)} {escape(unit)}\n  {escape(result.envelope.point_name(result.counterexample.point))}")
+        console.print(f"reproduce it: vehicle-assist run {paths['scenario']}", markup=False)
     else:
         console.print(f"[green]no counterexample[/] in {len(result.evaluations)} evaluations; minimum robustness "
-                      f"{_num(best.robustness)} {unit} at\n  {result.envelope.point_name(best.point)}")
-    console.print(f"wrote {', '.join(str(p) for p in paths.values())}")
+                      f"{_num(best.robustness)} {escape(unit)} at\n  {escape(result.envelope.point_name(best.point))}")
+    console.print(f"wrote {', '.join(str(p) for p in paths.values())}", markup=False)
 
 
 def study(
@@ -101,6 +121,7 @@ def study(
 
     _check_budget("--samples", samples, 1, 1_000_000)
     _check_budget("--sensitivity", sensitivity, 0, 100_000)
+    out = _out(out)
     try:
         cov = coverage_study(envelope, requirement, samples, method=method, seed=seed, sets=list(set_ or []), out=out,
                              console=console)
@@ -118,6 +139,8 @@ def study(
             console.print(f"figure {sens['figure']}")
     except InputError as exc:
         _fail(str(exc))
+    except OSError as exc:
+        _write_failed(exc, out)
 
 
 def requirements_cmd() -> None:

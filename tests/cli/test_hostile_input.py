@@ -356,3 +356,31 @@ def test_api_simulate_refuses_a_run_that_cannot_fit_in_memory():
         pytest.skip("machine with more than 1 TiB of memory")
     with pytest.raises(InputError, match="cannot run"):
         va.simulate(sc)
+
+
+# --- reviewer (issue #14 follow-up): commands added since (falsify, study, r139) and user envelope files ---
+@pytest.mark.parametrize("cmd", [
+    ["falsify", "hill_start_amt", "-r", "hill_start_amt.no_rollback", "--budget", "2"],
+    ["study", "hill_start_amt", "-r", "hill_start_amt.no_rollback", "--samples", "2"],
+    ["r139"],
+])
+@pytest.mark.parametrize("bad", ["/", "file", "file/sub"])
+def test_verification_commands_check_out_first(tmp_path, monkeypatch, cmd, bad):
+    """Before: `falsify/study/r139 --out /` ran the whole search and wrote falsify.json, coverage_*.png and
+    r139.json into the file-system root (as root). Reference: the --out rule of docs/scenarios.md."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "file").write_text("x")
+    res = invoke(*cmd, "--out", bad)
+    one_line(res, "--out")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["file"]
+
+
+def test_envelope_file_fifo_refused(tmp_path):
+    """Before: `falsify FIFO.toml` blocked forever (and /dev/zero read without bound)."""
+    fifo = tmp_path / "env.toml"
+    os.mkfifo(fifo)
+    res = invoke("falsify", fifo, "-r", "hill_start_amt.no_rollback", "--budget", "2", "--out", tmp_path / "o")
+    one_line(res, "not a regular file")
+    res = invoke("envelope", "/dev/zero")
+    assert res.exit_code == 2 and "Traceback" not in res.stdout + res.stderr
+    assert not (tmp_path / "o").exists()

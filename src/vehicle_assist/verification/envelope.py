@@ -428,7 +428,13 @@ def load_envelope(name_or_path: str | Path, validate: bool = True) -> Envelope:
             raise InputError(f"no shipped envelope named {text!r}{did_you_mean(text, files)} and no such file; "
                              f"shipped: {', '.join(files)}")
     try:
-        raw = tomllib.loads(path.read_text(encoding="utf-8"))
+        if text in files:
+            body = path.read_text(encoding="utf-8")
+        else:  # a user path: only a regular .toml file of bounded size (a FIFO or /dev/zero blocked or read forever)
+            from vehicle_assist.scenarios.guards import read_bounded
+
+            body = read_bounded(path, "envelope")[0]
+        raw = tomllib.loads(body)
     except FileNotFoundError:
         raise InputError(f"{path}: file not found; give an existing envelope file or a shipped name ({', '.join(files)})") from None
     except tomllib.TOMLDecodeError as exc:
