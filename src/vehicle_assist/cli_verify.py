@@ -121,6 +121,10 @@ def study(
 
     _check_budget("--samples", samples, 1, 1_000_000)
     _check_budget("--sensitivity", sensitivity, 0, 100_000)
+    if method not in ("sobol", "lhs", "random"):
+        _fail(f"--method = {method!r}: use sobol, lhs or random")
+    if output not in ("violated", "robustness"):  # checked before the coverage run writes anything
+        _fail(f"--output = {output!r}: use violated or robustness")
     out = _out(out)
     try:
         cov = coverage_study(envelope, requirement, samples, method=method, seed=seed, sets=list(set_ or []), out=out,

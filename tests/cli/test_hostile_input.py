@@ -384,3 +384,11 @@ def test_envelope_file_fifo_refused(tmp_path):
     res = invoke("envelope", "/dev/zero")
     assert res.exit_code == 2 and "Traceback" not in res.stdout + res.stderr
     assert not (tmp_path / "o").exists()
+
+
+def test_study_output_checked_before_coverage(tmp_path):
+    """Before: `study --sensitivity 2 --output foo` ran and wrote the whole coverage study, then failed."""
+    res = invoke("study", "hill_start_amt", "-r", "hill_start_amt.no_rollback", "--samples", "2",
+                 "--sensitivity", "2", "--output", "foo", "--out", tmp_path / "st")
+    one_line(res, "--output", "foo")
+    assert not (tmp_path / "st").exists()
