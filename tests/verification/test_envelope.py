@@ -104,3 +104,16 @@ def test_bad_envelope_one_line_error_names_field(tmp_path, edit, field):
 def test_unknown_shipped_envelope():
     with pytest.raises(InputError, match="hill_start_amt"):
         load_envelope("hill_start_am")
+
+
+def test_envelope_numbers_are_strict(tmp_path):
+    """Reviewer (issues #8/#14): `max = "8.5"` in an envelope was coerced to 8.5 silently; scenarios refuse it."""
+    from vehicle_assist.scenarios.errors import InputError
+    from vehicle_assist.verification.envelope import load_envelope, shipped_envelopes
+
+    text = shipped_envelopes()["hill_start_amt"].read_text(encoding="utf-8")
+    assert "max = 8.5" in text
+    bad = tmp_path / "e.toml"
+    bad.write_text(text.replace("max = 8.5", 'max = "8.5"', 1), encoding="utf-8")
+    with pytest.raises(InputError, match=r"ranges\.reservoir\.max = '8\.5': give a number, not a string"):
+        load_envelope(bad)

@@ -440,7 +440,7 @@ def load_envelope(name_or_path: str | Path, validate: bool = True) -> Envelope:
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{path}: not valid TOML ({exc}); fix the syntax at that place") from None
     try:
-        model = EnvelopeModel.model_validate(raw)
+        model = EnvelopeModel.model_validate(raw, strict=True)  # strict: "8.5" and true are not numbers
     except ValidationError as exc:
         raise from_validation(exc, EnvelopeModel, str(path)) from None
     env = Envelope(model, path)

@@ -255,7 +255,7 @@ def _load_file_cached(path_text: str, mtime: int) -> tuple[RequirementFile, dict
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{path}: not valid TOML ({exc}); fix the syntax at that place") from None
     try:
-        model = RequirementFile.model_validate(raw)
+        model = RequirementFile.model_validate(raw, strict=True)  # strict: "0.01" and true are not numbers
     except ValidationError as exc:
         raise from_validation(exc, RequirementFile, str(path)) from None
     from vehicle_assist.vehicles import layouts
