@@ -158,7 +158,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         wheels[i, A_DECEL] = a_w
         mode = int(wheels[i, A_MODE])
         # ABS also guards the wheel the blowout compensation brakes without the driver (slip control, issue #10)
-        allowed_i = abs_allowed or (abs_ok and i == comp_wheel and v_ref > p.esp_abs_min_speed_mps)
+        # (engaged only once lock threatens: slip above the dump threshold; the Dugoff tire has no force peak,
+        # so holding at the 10 % threshold would cut force the compensation needs)
+        allowed_i = abs_allowed or (abs_ok and i == comp_wheel and v_ref > p.esp_abs_min_speed_mps
+                                    and (slip > p.esp_abs_dump_slip_frac or int(wheels[i, A_MODE]) != abs_fn.OFF))
         new, reason = abs_fn.abs_step(mode, wheels[i, A_BUILD_S], slip, a_w, allowed_i, p.esp_abs_dump_slip_frac,
                                       p.esp_abs_hold_slip_frac, p.esp_abs_dump_decel_mps2, p.esp_abs_rebuild_decel_mps2,
                                       p.esp_abs_idle_time_s,
@@ -245,6 +248,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                 wm = W_N  # the driver asks for more than the compensation holds: the driver's pressure
             if wm == W_D and wheels[i, A_P_EST] < p.esp_unit_lpa_pressure_pa + 0.5e5:
                 wm = W_HI  # released wheel already empty: keep the inlet closed
+            if (blow_req[i] == bc.Q_BUILD or blow_req[i] == bc.Q_HOLD) and (wm == W_BPM or wm == W_HI):
+                # after an ABS dump the compensating wheel re-builds from the accumulator (not from the empty
+                # master cylinder) up to the required pressure, then holds
+                wm = W_BP if wheels[i, A_P_EST] < bst[bc.S_P_REQ] - 1.0e5 else W_HI
         wheels[i, A_WHEEL_MODE] = wm
         src = p_mc if i < 2 else _prop(p_mc, p)
         wheels[i, A_P_EST] = _estimate(wm, wheels[i, A_P_EST], src, dt, p)
