@@ -57,6 +57,25 @@ def _write_failed(exc: OSError, out: Path) -> None:
           "free space or give another --out")
 
 
+def _memory_guard(envelope: str, sets: list[str], batch: int) -> None:
+    """Refuse a search whose runs cannot fit in memory (issue #14: duration x step combinations that each pass
+    their range can ask for tens of GiB): a batch of the envelope's longest run (max_duration_s) with --set."""
+    import os
+
+    from vehicle_assist.scenarios.errors import InputError
+    from vehicle_assist.scenarios.guards import Estimate, estimate_sweep, refuse_past_bounds
+    from vehicle_assist.verification.envelope import load_envelope
+
+    try:
+        env = load_envelope(envelope, validate=False)
+        sc = env.base_scenario.with_sets(*sets, f"run.duration_s={env.model.max_duration_s}")
+        est = estimate_sweep(sc, batch, workers=min(batch, os.cpu_count() or 1), chunk=batch)
+        refuse_past_bounds(Estimate(f"a batch of {batch} runs of up to {env.model.max_duration_s:g} s",
+                                    est.memory_bytes, 0.0), yes=False)
+    except InputError as exc:
+        _fail(str(exc))
+
+
 def _check_budget(name: str, value: int, lo: int, hi: int) -> None:
     if not lo <= value <= hi:
         _fail(f"{name} = {value}: must be between {lo} and {hi}")
@@ -84,6 +103,7 @@ def falsify(
     if optimizer not in OPTIMIZERS:
         _fail(f"--optimizer = {optimizer!r}: use one of {', '.join(OPTIMIZERS)}")
     out = _out(out)
+    _memory_guard(envelope, list(set_ or []), batch)
     try:
         result = run_falsification(envelope, requirement, budget=budget, seed=seed, optimizer=optimizer, batch=batch,
                                    sets=list(set_ or []), stop_at_violation=not keep_going, console=console)

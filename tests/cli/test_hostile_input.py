@@ -392,3 +392,12 @@ def test_study_output_checked_before_coverage(tmp_path):
                  "--sensitivity", "2", "--output", "foo", "--out", tmp_path / "st")
     one_line(res, "--output", "foo")
     assert not (tmp_path / "st").exists()
+
+
+def test_falsify_refuses_a_batch_that_cannot_fit(tmp_path):
+    """Before: `falsify --set run.plant_step_s=1e-5 --set run.record_period_s=1e-5` started a batch of 8 runs of
+    up to the envelope's 120 s (about 180 GiB of trace buffers). Reference: the size rule of docs/scenarios.md."""
+    res = invoke("falsify", "hill_start_amt", "-r", "hill_start_amt.no_rollback", "--budget", "2",
+                 "--set", "run.plant_step_s=1e-5", "--set", "run.record_period_s=1e-5", "--out", tmp_path / "o")
+    one_line(res, "memory")
+    assert not (tmp_path / "o").exists()
