@@ -146,6 +146,7 @@ def study(
     if output not in ("violated", "robustness"):  # checked before the coverage run writes anything
         _fail(f"--output = {output!r}: use violated or robustness")
     out = _out(out)
+    _memory_guard(envelope, list(set_ or []), 16)  # runner.BATCH_CHUNK variants at once
     try:
         cov = coverage_study(envelope, requirement, samples, method=method, seed=seed, sets=list(set_ or []), out=out,
                              console=console)

@@ -401,3 +401,10 @@ def test_falsify_refuses_a_batch_that_cannot_fit(tmp_path):
                  "--set", "run.plant_step_s=1e-5", "--set", "run.record_period_s=1e-5", "--out", tmp_path / "o")
     one_line(res, "memory")
     assert not (tmp_path / "o").exists()
+
+
+def test_study_refuses_runs_that_cannot_fit(tmp_path):
+    res = invoke("study", "hill_start_amt", "-r", "hill_start_amt.no_rollback", "--samples", "2",
+                 "--set", "run.plant_step_s=1e-5", "--set", "run.record_period_s=1e-5", "--out", tmp_path / "o")
+    one_line(res, "memory")
+    assert not (tmp_path / "o").exists()
