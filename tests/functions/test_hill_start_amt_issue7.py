@@ -280,3 +280,27 @@ def test_lift_off_after_the_start_never_applies_the_spring_brake_while_moving(na
     assert np.all(np.abs(np.asarray(tr["park_brake_force_n"])[moving]) < 1.0)
     assert not any(e.reason == "engine_pulled_down_on_grade" for e in r.events)
     assert r.metrics["rollback_distance_m"] <= 0.01 or slope_deg > 0.0  # on the grade a rollback is caught instead
+
+
+@pytest.mark.parametrize("f, mu", [(0.015, 0.8), (0.02, 0.6)])
+def test_refusal_beyond_the_park_brake_keeps_the_clutch_resisting(f, mu) -> None:
+    """Reference: the unassisted twin (issue 7: never worse than no assist) and statics. 40 t on 16 deg in crawler
+    at full pedal: the assist refuses (grade beyond the engine torque), and the 100 kN park brake plus the rolling
+    resistance at rest (m g f cos) is below m g sin(16 deg) = 108 kN, so the brake alone cannot hold. Before the fix
+    the stand-down opened the clutch and the truck crept back 1.5 cm (f 0.015) / 3.9 cm (f 0.02) while the same
+    start without the assist (the AMT closes the clutch) rolled back 0 m. Now the clutch carries the rest: the
+    refusal stands (no start, valve energised, lamp on), no rollback beyond the twin's (or 1 cm), no stall."""
+    a, m = math.radians(16), 40000.0
+    assert m * G * math.sin(a) > 100000.0 + m * G * f * math.cos(a)  # premise: the park brake alone slides
+    sets = ["vehicle.body.mass_kg=40000", "road.slope_deg=16", 'driver.gear_lever={time_s=[0.0], gear=["C"]}',
+            "driver.accelerator={time_s=[0.0, 1.0, 1.5], frac=[0, 0, 1.0]}",
+            "driver.hand_valve={time_s=[0.0, 3.0], released=[0, 1]}",
+            f"road.rolling_resistance_coeff={f}", f"road.friction_mu={mu}"]
+    r_on, r_off = (va.simulate(va.load_scenario(S1, sets + [f"vehicle.hill_start_assist.enabled_flag={e}"]))
+                   for e in (1, 0))
+    on, off = r_on.metrics, r_off.metrics
+    assert on["rollback_distance_m"] <= max(0.01, off["rollback_distance_m"])
+    assert on["engine_stalled_flag"] == 0.0 and off["engine_stalled_flag"] == 0.0
+    assert REFUSAL_REASONS[int(on["assist_refusal_code"]) - 1] == "grade_beyond_engine_torque"
+    assert r_on.trace["valve_32_energized_flag"][-1] > 0.5 and r_on.trace["park_lamp_flag"][-1] > 0.5
+    assert np.max(np.asarray(r_on.trace["position_m"])) <= 0.01  # the refusal stands: no start

@@ -39,7 +39,7 @@ and the engine so that the truck neither rolls back nor stalls, with little clut
   | engine speed lost before the release command | hold: valve stays energised (park brake applied), clutch opens |
   | engine speed lost after the release command (the park force may already be falling) | drive on, at the slow engagement rate (no engine-speed feedback) |
   | park brake not released (stuck valve, slow chamber fill: lamp still on after the timeout, truck standing) | hold: 3/2 valve energised again (the spring brake re-applies), the clutch keeps resisting until the brake has been back on for the refusal delay, then opens |
-  | grade beyond the engine torque: even at full pedal (HOLD), or at the driver's pedal for 1 s at the release point (ENGAGE_HELD), the engine's best governed torque above the launch speed is below margin x the estimated holding torque | hold: the park brake stays applied, clutch open; the driver must choose a lower gear, press further and retry, or give up |
+  | grade beyond the engine torque: even at full pedal (HOLD), or at the driver's pedal for 1 s at the release point (ENGAGE_HELD), the engine's best governed torque above the launch speed is below margin x the estimated holding torque | hold: the park brake stays applied, clutch open (if the park brake's rated force is below the measured grade force m g sin(alpha): resist, the clutch carries margin x the rest); the driver must choose a lower gear, press further and retry, or give up |
   | grade beyond the park brake / adhesion: the truck slides back on the applied park brake (HOLD, APPROACH, ENGAGE_HELD), or rolls back after the release although the clutch delivered more than the estimated resistance (driven tandem at its adhesion limit) | catch, then hold |
   | rollback caught (after the release the truck moved backwards, or the engine was pulled below the guard after DONE) | catch: 3/2 valve energised (spring brake re-applies), clutch held while the engine runs above the guard; hold once the truck stands |
 
@@ -245,15 +245,22 @@ def _position(p, torque_nm):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def _resist(p, c, x, m, engine_ok, park_applied, x_ceiling, dt):
+def _resist(p, c, x, m, engine_ok, park_applied, x_ceiling, dt, x_support):
     """Clutch while catching a rollback: engage (its forward torque works against the rollback, up to what the
     engine carries above the launch speed) while the engine runs above the guard; below it back off. Once the
-    truck has stood on the re-applied spring brake (lamp on) for the refusal delay, open: the brake holds."""
+    truck has stood on the re-applied spring brake (lamp on) for the refusal delay, open: the brake holds.
+    ``x_support`` > 0 (the park brake's rated force is below the measured grade force, issue 7): engage at v_A up to
+    that position (the clutch carries the part of the grade the brake cannot) and never open below it."""
     if not engine_ok or m.engine_speed_radps < p.hill_start_assist_guard_speed_radps:
         return x - p.hill_start_assist_back_off_rate_per_s * dt
     if m.vehicle_speed_mps < 0.0:
         return min(max(x + p.hill_start_assist_approach_rate_per_s * dt, p.clutch_kiss_point_frac),
                    max(x_ceiling, x))
+    if x_support > 0.0:
+        target = min(x_support, max(x_ceiling, p.clutch_kiss_point_frac))
+        if x < target:
+            return min(max(x + p.hill_start_assist_approach_rate_per_s * dt, p.clutch_kiss_point_frac), target)
+        return x
     if (park_applied and c.standing_time_s >= p.hill_start_assist_refusal_delay_s
             and c.mode_time_s >= p.hill_start_assist_refusal_delay_s):  # the re-applied brake had time to exhaust
         return x - p.hill_start_assist_back_off_rate_per_s * dt
@@ -336,6 +343,15 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     # grade force the park brake must hold (downhill, after the rolling-resistance reaction)
     grade_force = m.vehicle_mass_kg * 9.81 * (math.sin(c.grade_estimate_rad)
                                               - p.body_rolling_resistance_coeff * math.cos(c.grade_estimate_rad))
+
+    # the park brake alone cannot be expected to hold (issue 7): its rated force is below the measured grade force
+    # m g sin(alpha) (no credit for the rolling resistance: at rest it builds up only with creep). The clutch then
+    # carries the rest, with the start margin, up to what the engine carries above the launch speed
+    park_short_n = m.vehicle_mass_kg * 9.81 * math.sin(c.grade_estimate_rad) - p.park_brake_max_force_n
+    x_support = 0.0
+    if park_short_n > 0.0 and ratio > 0.0:
+        x_support = _position(p, p.hill_start_assist_hold_torque_margin_frac * park_short_n * p.body_wheel_radius_m
+                              / (ratio * p.gearbox_efficiency_frac))
 
     g = np.zeros(N_GUARDS, dtype=np.bool_)
     g[G_SWITCH_FAILED] = entry and m.park_lamp_ok < 0.5
@@ -439,13 +455,16 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
         # keep holding what was held; a refusal (re-)applies the spring brake
         held = (action == STAND_DOWN_HOLD or action == STAND_DOWN_RESIST) and (
             c.valve_command_flag > 0.5 or c.refusal_code > 0.0)
-        if action == STAND_DOWN_HOLD and catch_on and backwards and held:
-            action = STAND_DOWN_RESIST  # the applied park brake does not hold the truck: resist with the clutch
+        if action == STAND_DOWN_HOLD and held and ((catch_on and backwards) or x_support > 0.0):
+            # the applied park brake does not hold the truck, or cannot be expected to (rated force below the
+            # measured grade force): resist with the clutch instead of opening it (issue 7: 40 t on 16 deg crept
+            # back 1.5-3.9 cm on the 100 kN brake after a refusal, 0 m without the assist)
+            action = STAND_DOWN_RESIST
             c.stand_down_action = STAND_DOWN_RESIST
         if action == STAND_DOWN_HOLD:
             x = 0.0
         elif action == STAND_DOWN_RESIST:
-            x = _resist(p, c, x, m, engine_ok, park_applied, x_ceiling, dt)
+            x = _resist(p, c, x, m, engine_ok, park_applied, x_ceiling, dt, x_support)
         elif action == STAND_DOWN_DRIVE_ON:
             slip_small = abs(slip_meas) <= p.hill_start_assist_lockup_slip_radps
             if engine_ok and slip_small and m.vehicle_speed_mps > p.hill_start_assist_moving_speed_mps:
@@ -495,7 +514,7 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     elif new_mode == DONE:
         x = 1.0
     elif new_mode == CATCH:
-        x = _resist(p, c, x, m, engine_ok, park_applied, x_ceiling, dt)
+        x = _resist(p, c, x, m, engine_ok, park_applied, x_ceiling, dt, x_support)
     c.clutch_command_frac = min(max(x, 0.0), 1.0)
     c.valve_command_flag = 1.0 if held else 0.0
     return n_events
