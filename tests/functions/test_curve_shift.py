@@ -130,3 +130,34 @@ def test_s48_no_command_without_deceleration_need():
     assert ("curve_shift", "curve_command") not in ev
     _, ev = _events("curve_s48")
     assert ("curve_shift", "curve_command") in ev
+
+
+def test_preview_lost_mid_approach_falls_back_to_normal_schedule():
+    """FSM row CURVE -> NORMAL preview_lost (issue #11 faults: a lost preview -> normal schedule, guard holds).
+    Reference: the issue's stated behaviour and the guard n_guard = 3800 rpm = 397.9 rad/s (curve_shift.md 8
+    criterion 4); the intact run (curve_s80) stays in curve mode to the curve end, so this test can fail."""
+    r, ev = _events("curve_s80_map_dropout")
+    lost = [e for e in r.events if e.machine == "curve_shift" and e.reason == "preview_lost"]
+    assert len(lost) == 1 and abs(lost[0].time_s - 4.0) < 0.05
+    assert ("curve_shift", "curve_command") in ev
+    t = r.trace["time_s"]
+    assert np.all(r.trace["curve_mode_flag"][t > 4.05] == 0.0)
+    assert r.metrics["engine_speed_after_downshift_max_radps"] <= 397.9
+    _, ev0 = _events("curve_s80")
+    assert ("curve_shift", "preview_lost") not in ev0
+
+
+def test_curve_mode_upshifts_matched_per_event():
+    """upshifts_in_curve_mode_count excludes only upshifts at whose sample the protection counter steps. Reference:
+    a hand-built trace with a plain upshift in curve mode (i = 2) and a protection step at the sample curve mode
+    ends (i = 4, not a curve-mode upshift): the answer is 1; subtracting the global counter would give 0."""
+    from vehicle_assist.metrics import curve_shift as mcs
+
+    class _T(dict):
+        batch_size = None
+
+    tr = _T(time_s=np.arange(6.0), gear_command_index=np.array([2, 2, 3, 3, 4, 4.]),
+            curve_mode_flag=np.array([1, 1, 1, 1, 0, 0.]), protection_upshift_count=np.array([0, 0, 0, 0, 1, 1.]))
+    assert mcs.upshifts_in_curve_mode_count(tr) == 1.0
+    tr["protection_upshift_count"] = np.array([0, 0, 1, 1, 1, 1.])  # the same upshift was a protection release
+    assert mcs.upshifts_in_curve_mode_count(tr) == 0.0

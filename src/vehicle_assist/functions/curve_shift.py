@@ -11,6 +11,10 @@ Modes (a StateMachine, first matching row wins; each change logged with its guar
                                       curves); the strategy is enabled
     CURVE  -> NORMAL  curve_left      distance integrated from the measured speed since the command exceeds the
                                       commanded distance + curve length (P13: position from speed integration)
+    CURVE  -> NORMAL  preview_lost    a preview channel reports a sensor fault (lost / timed out) while in curve
+                                      mode: fall back to the normal schedule; the over-speed guard still holds
+                                      (issue #11 faults). "No curve ahead" (valid flag 0 with a healthy channel)
+                                      is not a loss: inside the curve the map reports the next curve or none.
 
 At the command (curve_shift.md 5.2): a_y_pred = u_cmd^2/R (held for the whole curve mode),
 a_ypot = a_y_fit(clamp(R, 20, 500))/k (eq. 9, 10), a_ys(u_cmd) from the handling diagram (sec. 3, a table over
@@ -49,13 +53,14 @@ MACHINE = StateMachine(
     transitions=(
         Transition("NORMAL", "CURVE", "curve_command", "preview: a curve that needs deceleration within the command distance"),
         Transition("CURVE", "NORMAL", "curve_left", "travelled past the commanded distance + curve length"),
+        Transition("CURVE", "NORMAL", "preview_lost", "preview channel faulted (lost/timeout): normal schedule + guard"),
     ),
     doc=__doc__ or "",
 )
 TABLE = MACHINE.table()
 NORMAL, CURVE = range(2)
-G_COMMAND, G_LEFT = range(2)
-assert MACHINE.guards == ("curve_command", "curve_left")
+G_COMMAND, G_LEFT, G_LOST = range(3)
+assert MACHINE.guards == ("curve_command", "curve_left", "preview_lost")
 
 # paper 003 eq. 9 (P6): a_y = -4.585e-8 R^3 + 5.6235e-5 R^2 - 0.0238 R + 4.5947, R in m
 FIT_COEFFS = (-4.585e-8, 5.6235e-5, -0.0238, 4.5947)
@@ -173,9 +178,13 @@ def step(st, meas, p, dt, t, machine_id, events, n_events):
     g_command = enabled and mode == NORMAL and valid and 0.0 <= meas.curve_distance_m <= p.curve_shift_command_distance_m \
         and needs_decel
     g_left = mode == CURVE and st.travelled_m >= st.curve_end_m
-    guards = np.zeros(2, dtype=np.bool_)
+    channel_ok = meas.curve_valid_ok > 0.5 and meas.curve_distance_ok > 0.5 and meas.curve_radius_ok > 0.5 \
+        and meas.curve_length_ok > 0.5
+    g_lost = mode == CURVE and not channel_ok
+    guards = np.zeros(3, dtype=np.bool_)
     guards[G_COMMAND] = g_command
     guards[G_LEFT] = g_left
+    guards[G_LOST] = g_lost
     new_mode, reason = next_mode(TABLE, mode, guards)
     if new_mode != mode:
         n_events = log_event(events, n_events, t, machine_id, mode, new_mode, reason)

@@ -87,11 +87,22 @@ def upshifts_signal_to_exit_count(trace):
 def upshifts_in_curve_mode_count(trace):
     def f(r):
         i, g0, g1 = _commands(r)
-        # a command issued at the sample where curve mode ends belongs to the normal schedule; upshifts released
-        # by the engine protection are counted by protection_upshifts_count instead
-        n = np.sum((g1 > g0) & (r["curve_mode_flag"][i - 1] > 0.5) & (r["curve_mode_flag"][i] > 0.5))
-        return float(n) - protection_upshifts(r)
+        # a command issued at the sample where curve mode ends belongs to the normal schedule; an upshift is a
+        # protection release only if the protection counter stepped at that same sample (matched per event)
+        pc = r["protection_upshift_count"]
+        released = pc[i] > pc[i - 1]
+        n = np.sum((g1 > g0) & (r["curve_mode_flag"][i - 1] > 0.5) & (r["curve_mode_flag"][i] > 0.5) & ~released)
+        return float(n)
     return _per_row(trace, ("gear_command_index", "curve_mode_flag", "protection_upshift_count"), f)
+
+
+def curve_mode_in_curve_phase_frac(trace):
+    def f(r):
+        inside = r["driver_phase_index"] == CURVE
+        if not np.any(inside):
+            return np.nan
+        return float(np.mean(r["curve_mode_flag"][inside] > 0.5))
+    return _per_row(trace, ("driver_phase_index", "curve_mode_flag"), f)
 
 
 def protection_upshifts(r) -> float:
@@ -222,6 +233,8 @@ for _m in (
     Metric("upshifts_in_curve_mode_count", upshifts_in_curve_mode_count,
            _GEAR + ("curve_mode_flag", "protection_upshift_count"),
            "upshift commands while the strategy is in curve mode (engine-protection releases excluded)"),
+    Metric("curve_mode_in_curve_phase_frac", curve_mode_in_curve_phase_frac, ("driver_phase_index", "curve_mode_flag"),
+           "fraction of the curve phase samples with the strategy in curve mode"),
     Metric("protection_upshifts_count", protection_upshifts_count, ("protection_upshift_count",),
            "upshifts the engine protection released in curve mode"),
     Metric("upshifts_after_lift_off_count", upshifts_after_lift_off_count, _GEAR + ("driver_phase_index",),
