@@ -93,10 +93,10 @@ def envelope_entries(summary: dict, paper: str) -> list[dict]:
                           f"issue #7 item 1; paper 000 P14 / hill_start_amt.md 9.2 (no stall); stalls with the assist "
                           f"{summary['stalls_assisted']}, without {summary['stalls_baseline']}"))
     if summary["refusal_metric_present"]:
-        out.append(_entry(paper, scen, "refusals that roll back > 1 cm where the braked wheels' adhesion can hold",
+        out.append(_entry(paper, scen, "refusals that roll back > 1 cm where the brake can hold (adhesion and rated force)",
                           summary["refused_with_rollback"], "-", "<= 0", summary["refused_with_rollback"] == 0,
                           f"issue #7 item 1: a refusal holds the brake; holdable = closed form mu*r*cos(a) >= sin(a) "
-                          f"(r: load share of the braked wheels); {summary['refused_beyond_braked_adhesion']} refused "
+                          f"(r: load share of the braked wheels) and, for the truck, m g sin(a) <= F_g_max + m g f cos(a); {summary['refused_beyond_braked_adhesion']} refused "
                           f"points are beyond it (the vehicle slides with braked wheels, with or without the assist); "
                           f"{refusal_note}"))
     if "jerk_steady_upto_2x_paper_rate_mps3" in summary:

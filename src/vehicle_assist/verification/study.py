@@ -49,7 +49,9 @@ def _study_metrics(layout: str) -> tuple[list[str], list[str]]:
 def braked_adhesion_holds(sc) -> bool:
     """Closed form: can the braked wheels hold the vehicle at rest on this grade? mu * F_z,braked >= m g sin(a),
     i.e. mu * r * cos(a) >= sin(a) with r the load share of the braked wheels (EV: all four wheels, r = 1;
-    truck: the spring brake acts on the rear tandem, r from the axle-load split of the vehicle file)."""
+    truck: the spring brake acts on the rear tandem, r from the axle-load split of the vehicle file); for the
+    truck also the spring brake's rated force: m g sin(a) <= F_g_max + m g f cos(a) (a 40 t truck on 20 deg
+    needs 134 kN, the 100 kN spring brake cannot hold it whatever the grip)."""
     a = math.radians(sc.model.road.slope_deg or 0.0)
     mu = sc.model.road.friction_mu if sc.model.road.friction_mu is not None else 1.0
     r = 1.0
@@ -58,7 +60,18 @@ def braked_adhesion_holds(sc) -> bool:
         m = sc.vehicle.model.body.mass_kg
         m0 = min(getattr(axles, "empty_mass_kg", m), m)
         r = (m0 * axles.empty_rear_load_frac + (m - m0) * axles.payload_rear_load_frac) / m
-    return mu * r * math.cos(a) >= math.sin(a)
+    if not mu * r * math.cos(a) >= math.sin(a):
+        return False
+    park = getattr(sc.vehicle.model, "park_brake", None)
+    if sc.layout == "truck_amt" and park is not None and hasattr(park, "max_force_n"):
+        # the spring brake's rated holding force at the ground (common.md 7.2) plus the rolling-resistance
+        # reaction at rest (common.md 3.3) must carry the grade force: m g sin(a) <= F_g_max + m g f cos(a)
+        m = sc.vehicle.model.body.mass_kg
+        f = sc.model.road.rolling_resistance_coeff
+        if f is None:
+            f = sc.vehicle.model.body.rolling_resistance_coeff
+        return m * 9.81 * math.sin(a) <= park.max_force_n + m * 9.81 * f * math.cos(a)
+    return True
 
 
 def run_points(env: Envelope, points: list[dict], baseline: bool = True, chunk: int = 256, progress=None
