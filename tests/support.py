@@ -59,3 +59,29 @@ def simulate_all(names) -> dict:
 def unexpected_checks(result) -> list[str]:
     """Checks whose outcome is not what the scenario expects (a negative control must fail its bound)."""
     return [f"{c.metric}={c.value:.4g} (bound {c.bound}, expect {c.expect})" for c in result.checks if not c.ok]
+
+
+# a small hill-start envelope for the verification tests (falsifier and studies plant violations in it)
+PLANTED_ENVELOPE = """
+name = "planted"
+function = "hill_start_amt"
+base = "hsa_truck_full_14deg_8p0bar"
+sets = ["run.duration_s=0.3", "requirements=[]"]
+baseline = ["vehicle.hill_start_assist.enabled_flag=0"]
+baseline_source = "issue #7"
+[ranges.slope]
+path = "road.slope_deg"
+min = 0
+max = 20
+source = "issue #7 item 1"
+[ranges.mass]
+path = "vehicle.body.mass_kg"
+min = 13000
+max = 40000
+source = "issue #7 item 1"
+[choices.surface]
+source = "issue #7 item 1"
+[choices.surface.options]
+gravel = { "road.friction_mu" = 0.6 }
+wet = { "road.friction_mu" = 0.5 }
+"""

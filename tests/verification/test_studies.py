@@ -11,30 +11,9 @@ import pyarrow.parquet as pq
 import pytest
 
 from vehicle_assist.verification import study as st
+from tests.support import PLANTED_ENVELOPE
 
-ENVELOPE = """
-name = "planted"
-function = "hill_start_amt"
-base = "hsa_truck_full_14deg_8p0bar"
-sets = ["run.duration_s=0.3", "requirements=[]"]
-baseline = ["vehicle.hill_start_assist.enabled_flag=0"]
-baseline_source = "issue #7"
-[ranges.slope]
-path = "road.slope_deg"
-min = 0
-max = 20
-source = "issue #7 item 1"
-[ranges.mass]
-path = "vehicle.body.mass_kg"
-min = 13000
-max = 40000
-source = "issue #7 item 1"
-[choices.surface]
-source = "issue #7 item 1"
-[choices.surface.options]
-gravel = { "road.friction_mu" = 0.6 }
-wet = { "road.friction_mu" = 0.5 }
-"""
+ENVELOPE = PLANTED_ENVELOPE
 
 
 @pytest.fixture()

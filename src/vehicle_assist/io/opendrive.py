@@ -225,17 +225,18 @@ class OpenDriveRoad:
             out[m] = g.curvature(np.clip(s[m] - g.s_m, 0.0, g.length_m))
         return out
 
-    def elevation_at(self, s) -> np.ndarray:
-        s = np.atleast_1d(np.asarray(s, dtype=float))
-        if not self.elevations:
-            return np.zeros_like(s)
+    def _elevation_pieces(self, s: np.ndarray):
+        """Each elevation record with the samples it covers: (record, mask, ds from the record's start)."""
         starts = np.array([e.s_m for e in self.elevations])
         idx = np.clip(np.searchsorted(starts, s, side="right") - 1, 0, len(starts) - 1)
-        out = np.zeros_like(s)
         for i in np.unique(idx):
-            e = self.elevations[i]
             m = idx == i
-            d = s[m] - e.s_m
+            yield self.elevations[i], m, s[m] - self.elevations[i].s_m
+
+    def elevation_at(self, s) -> np.ndarray:
+        s = np.atleast_1d(np.asarray(s, dtype=float))
+        out = np.zeros_like(s)
+        for e, m, d in (self._elevation_pieces(s) if self.elevations else ()):
             a, b, c, dd = e.coeffs
             out[m] = a + b * d + c * d * d + dd * d ** 3
         return out
@@ -243,15 +244,8 @@ class OpenDriveRoad:
     def grade_at(self, s) -> np.ndarray:
         """Grade angle [rad], uphill + in the direction of increasing s: atan(dz/ds)."""
         s = np.atleast_1d(np.asarray(s, dtype=float))
-        if not self.elevations:
-            return np.zeros_like(s)
-        starts = np.array([e.s_m for e in self.elevations])
-        idx = np.clip(np.searchsorted(starts, s, side="right") - 1, 0, len(starts) - 1)
         out = np.zeros_like(s)
-        for i in np.unique(idx):
-            e = self.elevations[i]
-            m = idx == i
-            d = s[m] - e.s_m
+        for e, m, d in (self._elevation_pieces(s) if self.elevations else ()):
             _, b, c, dd = e.coeffs
             out[m] = np.arctan(b + 2 * c * d + 3 * dd * d * d)
         return out
