@@ -338,7 +338,10 @@ def sweep(
     set_: Optional[List[str]] = SetOpt,
     out_text: str = typer.Option("out/sweep", "--out", "-o", help="output directory (an interrupted sweep resumes here)"),
     chunk: int = typer.Option(500, help="variants per part file (1 to 100000)"),
-    workers: int = typer.Option(0, help="threads (0 = all cores, at most 64)"),
+    workers: int = typer.Option(0, help="threads, or worker processes of a local dask cluster (0 = all cores, at most 64)"),
+    scheduler: Optional[str] = typer.Option(None, "--scheduler", help="dask scheduler address (tcp://host:8786), 'local' "
+                                            "(a cluster of processes here) or 'threads'; default $VEHICLE_ASSIST_SCHEDULER, "
+                                            "else local for >= 20,000 variants (needs the [dist] extra)"),
     plot: Optional[List[str]] = typer.Option(None, "--plot", help="X Y METRIC: heat map of METRIC over grid axes "
                                              "X and Y (Y '-' for a line plot over X), to sweep.png and sweep.html"),
     yes: bool = YesOpt,
@@ -353,7 +356,7 @@ def sweep(
     sc = _load(scenario, set_)
     try:
         path, n = run_sweep(sc, grid, out, chunk=chunk, workers=workers or None, console=console, yes=yes,
-                            say=_say)
+                            say=_say, scheduler=scheduler)
     except InputError as exc:
         _fail(str(exc))
     except OSError as exc:

@@ -17,7 +17,6 @@ Results go to ``OUT/parts/part-NNNNN.parquet`` (one per chunk, written atomicall
 from __future__ import annotations
 
 import hashlib
-import itertools
 import json
 import math
 import shutil
@@ -148,21 +147,121 @@ def _compare_record(old, spec: dict, out: Path, spec_path: Path) -> None:
                          "resuming would mix stale rows; delete it or use another --out")
 
 
-def _part_ok(part: Path, expected: dict) -> str:
-    """'' if ``part`` is a readable part of this sweep with these variants, else the reason it is not."""
+def _part_found(part: Path) -> dict | str:
+    """The variant record a part file carries in its metadata, or the reason it cannot be read."""
     try:
         meta = pq.read_schema(part).metadata or {}
         found = json.loads(meta.get(PART_META_KEY, b"{}"))
     except Exception as exc:  # pyarrow raises several types for a damaged file
         return f"unreadable ({exc.__class__.__name__})"
-    if found != expected:
-        return "computed for another sweep or other parameters"
-    return ""
+    return found if isinstance(found, dict) else "computed for another sweep or other parameters"
+
+
+def _part_ok(part: Path, expected: dict) -> str:
+    """'' if ``part`` is a readable part of this sweep with these variants, else the reason it is not."""
+    found = _part_found(part)
+    if isinstance(found, str):
+        return found
+    return "" if found == expected else "computed for another sweep or other parameters"
+
+
+def combo_at(axes: list[tuple[str, list]], i: int) -> list:
+    """The values of variant ``i`` (the order of ``itertools.product``: the last axis varies fastest)."""
+    out = []
+    for _, values in reversed(axes):
+        i, r = divmod(i, len(values))
+        out.append(values[r])
+    return out[::-1]
+
+
+def compute_part(base: LoadedScenario, axes: list[tuple[str, list]], spec_digest: str, lo: int, hi: int,
+                 found: dict | str | None = None, workers: int | None = None, progress=None):
+    """Variants ``lo..hi-1`` of the sweep: ``(expected part record, table)``, or ``(expected, None)`` when
+    ``found`` (the record of an existing part file) already matches. One function for the thread path and
+    for the dask workers, so both write the same part files."""
+    block = [combo_at(axes, i) for i in range(lo, hi)]
+    try:
+        variants = [base.with_sets(*[_assignment(p, v) for (p, _), v in zip(axes, combo)]) for combo in block]
+    except InputError as exc:
+        raise InputError(f"variants {lo}..{hi - 1}: {exc}") from None
+    expected = {"sweep": spec_digest, "lo": lo, "hi": hi,
+                "parameters": _digest([v.parameter_hash() for v in variants])}
+    if found == expected:
+        return expected, None
+    res = simulate_batch(variants, workers=workers, progress=progress)
+    columns: dict[str, list] = {"variant": list(range(lo, hi))}
+    for j, (path, _) in enumerate(axes):
+        columns[path] = _column([combo[j] for combo in block])
+    names = sorted({m for d in res.metrics for m in d})
+    for name in names:
+        columns[name] = [d.get(name, float("nan")) for d in res.metrics]
+    columns["checks_ok"] = res.checks_ok
+    table = pa.table(columns).replace_schema_metadata({PART_META_KEY: json.dumps(expected).encode()})
+    return expected, table
+
+
+def _part_task(base: LoadedScenario, axes, spec_digest: str, lo: int, hi: int, found):
+    """On a dask worker: one part, on the worker's one thread."""
+    _, table = compute_part(base, axes, spec_digest, lo, hi, found, workers=1)
+    return lo, hi, table
+
+
+def _write_part(table: pa.Table, part: Path) -> None:
+    with atomic_path(part) as tmp:
+        pq.write_table(table, tmp)
+
+
+def _progress_bar(console):
+    from rich.progress import (BarColumn, MofNCompleteColumn, Progress, ProgressColumn, TextColumn,
+                               TimeElapsedColumn, TimeRemainingColumn)
+    from rich.text import Text
+
+    class Rate(ProgressColumn):
+        def render(self, task):
+            speed = task.finished_speed or task.speed
+            return Text(f"{speed:,.0f} variants/s" if speed else "", style="progress.data.speed")
+
+    return Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), Rate(),
+                    TimeElapsedColumn(), TextColumn("eta"), TimeRemainingColumn(), console=console, transient=True)
+
+
+def _merge_parts(parts: Path, n_parts: int, spec: dict, final: Path) -> int:
+    """Stream the parts into ``final`` one at a time (memory: one part), columns unified over all parts."""
+    paths = [parts / f"part-{k:05d}.parquet" for k in range(n_parts)]
+    schemas = []
+    for part in paths:
+        try:
+            schemas.append(pq.read_schema(part).remove_metadata())
+        except Exception as exc:
+            raise InputError(f"{plain(str(part))}: cannot read it back ({exc.__class__.__name__}); delete it and run the "
+                             "sweep again to recompute it") from None
+    unified = pa.unify_schemas(schemas, promote_options="default")
+    target = _with_units_and_provenance(unified.empty_table(), spec).schema
+    rows = 0
+    with atomic_path(final) as tmp:
+        with pq.ParquetWriter(tmp, target) as writer:
+            for part in paths:
+                try:
+                    t = pq.read_table(part).replace_schema_metadata(None)
+                except Exception as exc:
+                    raise InputError(f"{plain(str(part))}: cannot read it back ({exc.__class__.__name__}); delete it and "
+                                     "run the sweep again to recompute it") from None
+                cols = [t.column(f.name) if f.name in t.column_names else pa.nulls(t.num_rows, f.type) for f in unified]
+                writer.write_table(pa.Table.from_arrays(cols, schema=unified).cast(target))
+                rows += t.num_rows
+    return rows
 
 
 def run_sweep(base: LoadedScenario, grid: list[str], out: Path, chunk: int = 500, workers: int | None = None, console=None,
-              yes: bool = True, say=None):
-    """Run the sweep; return (path of sweep.parquet, rows). ``yes=False`` refuses past the stated bounds."""
+              yes: bool = True, say=None, scheduler: str | None = None):
+    """Run the sweep; return (path of sweep.parquet, rows). ``yes=False`` refuses past the stated bounds.
+
+    ``scheduler``: a dask scheduler address, ``local`` or ``threads`` (default: ``$VEHICLE_ASSIST_SCHEDULER``,
+    else a local dask cluster for ``distributed.LARGE_RUNS`` variants or more, threads below; see
+    :mod:`vehicle_assist.distributed`). Every backend writes the same part files, so a sweep started on one
+    resumes on another."""
+    from vehicle_assist import distributed
+
     _check_options(chunk, workers)
     axes = parse_grid(grid)
     # validate every value of every axis before anything is written (a typo must not leave files behind)
@@ -180,6 +279,7 @@ def run_sweep(base: LoadedScenario, grid: list[str], out: Path, chunk: int = 500
                 raise InputError(f"--grid {path}={plain(str(v))}: that vehicle has layout {variant.layout} but the sweep's "
                                  f"scenario uses {base.layout}; a sweep runs one layout (sweep each layout separately)")
     n_total = math.prod(len(v) for _, v in axes)
+    target = distributed.choose(scheduler, n_total)  # a bad --scheduler fails here, before anything is written
     import os
 
     n_workers = workers or min(os.cpu_count() or 1, max(n_total, 1))
@@ -195,6 +295,7 @@ def run_sweep(base: LoadedScenario, grid: list[str], out: Path, chunk: int = 500
     spec_digest = _digest(spec)
     spec_path = out / "sweep.json"
     computed = 0
+    n_parts = (n_total + chunk - 1) // chunk
     with OutputLock(out):
         wrote_spec = False
         try:
@@ -209,41 +310,50 @@ def run_sweep(base: LoadedScenario, grid: list[str], out: Path, chunk: int = 500
                 write_json(spec, spec_path)
                 wrote_spec = True
             parts.mkdir(parents=True, exist_ok=True)
-            combos = itertools.product(*[v for _, v in axes])
-            n_parts = (n_total + chunk - 1) // chunk
-            from rich.progress import Progress
 
-            with Progress(console=console, transient=True) as progress:
+            def found_at(part: Path):
+                return _part_found(part) if part.exists() else None
+
+            def recomputing(part: Path, found) -> None:
+                if found is not None and say is not None:
+                    say(f"{part}: {found if isinstance(found, str) else 'computed for another sweep or other parameters'}; "
+                        "recomputing it")
+
+            with _progress_bar(console) as progress:
                 task = progress.add_task("sweep", total=n_total)
-                for k in range(n_parts):
-                    part = parts / f"part-{k:05d}.parquet"
-                    lo, hi = k * chunk, min((k + 1) * chunk, n_total)
-                    block = list(itertools.islice(combos, hi - lo))
-                    try:
-                        variants = [base.with_sets(*[_assignment(p, v) for (p, _), v in zip(axes, combo)]) for combo in block]
-                    except InputError as exc:
-                        raise InputError(f"variants {lo}..{hi - 1}: {exc}") from None
-                    expected = {"sweep": spec_digest, "lo": lo, "hi": hi,
-                                "parameters": _digest([v.parameter_hash() for v in variants])}
-                    if part.exists():
-                        reason = _part_ok(part, expected)
-                        if not reason:
+                if target is None:
+                    for k in range(n_parts):
+                        part = parts / f"part-{k:05d}.parquet"
+                        lo, hi = k * chunk, min((k + 1) * chunk, n_total)
+                        found = found_at(part)
+                        _, table = compute_part(base, axes, spec_digest, lo, hi, found, workers,
+                                                progress=lambda n: progress.advance(task, n))
+                        if table is None:
                             progress.advance(task, hi - lo)
                             continue
-                        if say is not None:
-                            say(f"{part}: {reason}; recomputing it")
-                    res = simulate_batch(variants, workers=workers, progress=lambda n: progress.advance(task, n))
-                    columns: dict[str, list] = {"variant": list(range(lo, hi))}
-                    for j, (path, _) in enumerate(axes):
-                        columns[path] = _column([combo[j] for combo in block])
-                    names = sorted({m for d in res.metrics for m in d})
-                    for name in names:
-                        columns[name] = [d.get(name, float("nan")) for d in res.metrics]
-                    columns["checks_ok"] = res.checks_ok
-                    table = pa.table(columns).replace_schema_metadata({PART_META_KEY: json.dumps(expected).encode()})
-                    with atomic_path(part) as tmp:
-                        pq.write_table(table, tmp)
-                    computed += 1
+                        recomputing(part, found)
+                        _write_part(table, part)
+                        computed += 1
+                else:
+                    with distributed.session(scheduler, n_total, workers=workers, say=say, warm=base) as backend:
+                        progress.update(task, description=f"sweep on {backend.describe()}")
+                        base_f = backend.scatter(base)
+                        found_of: dict[int, object] = {}
+
+                        def args():
+                            for k in range(n_parts):
+                                found_of[k] = found_at(parts / f"part-{k:05d}.parquet")
+                                yield base_f, axes, spec_digest, k * chunk, min((k + 1) * chunk, n_total), found_of[k]
+
+                        for lo, hi, table in backend.imap_unordered(_part_task, args(), key_prefix="sweep-part"):
+                            k = lo // chunk
+                            found = found_of.pop(k, None)
+                            if table is not None:
+                                part = parts / f"part-{k:05d}.parquet"
+                                recomputing(part, found)
+                                _write_part(table, part)
+                                computed += 1
+                            progress.advance(task, hi - lo)
         except BaseException:
             if computed == 0 and wrote_spec:  # nothing of value written: leave nothing behind
                 spec_path.unlink(missing_ok=True)
@@ -253,17 +363,6 @@ def run_sweep(base: LoadedScenario, grid: list[str], out: Path, chunk: int = 500
         finally:
             if created and computed == 0 and not spec_path.exists():
                 shutil.rmtree(out, ignore_errors=True)
-        tables = []
-        for k in range(n_parts):
-            part = parts / f"part-{k:05d}.parquet"
-            try:
-                tables.append(pq.read_table(part))
-            except Exception as exc:
-                raise InputError(f"{plain(str(part))}: cannot read it back ({exc.__class__.__name__}); delete it and run the "
-                                 "sweep again to recompute it") from None
-        merged = pa.concat_tables([t.replace_schema_metadata(None) for t in tables], promote_options="default")
-        merged = _with_units_and_provenance(merged, spec)
         final = out / "sweep.parquet"
-        with atomic_path(final) as tmp:
-            pq.write_table(merged, tmp)
-    return final, merged.num_rows
+        rows = _merge_parts(parts, n_parts, spec, final)
+    return final, rows
