@@ -5,12 +5,12 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 OUT ?= out
 
-.PHONY: setup warm browser demo test test-slow bench clean
+.PHONY: setup warm browser demo test test-slow bench bench-dist clean
 
 $(STAMP): pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[dev,mdf]'
+	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[dev,mdf,dist]'
 	touch $(STAMP)
 
 setup: $(STAMP)
@@ -38,6 +38,10 @@ test-slow: warm
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/run.py
+
+# the 100,000-variant sweep on a local dask cluster (issue #13): wall time, variants/s, client peak memory
+bench-dist: $(STAMP)
+	$(BIN)/python benchmarks/dist_sweep.py
 
 clean:
 	rm -rf $(VENV) $(OUT) .pytest_cache
