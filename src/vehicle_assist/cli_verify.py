@@ -76,6 +76,23 @@ def _memory_guard(envelope: str, sets: list[str], batch: int) -> None:
         _fail(str(exc))
 
 
+SCHEDULER_HELP = ("dask scheduler address (tcp://host:8786), 'local' (a cluster of processes here) or 'threads'; default "
+                  "$VEHICLE_ASSIST_SCHEDULER, else local for >= 20,000 runs (needs the [dist] extra)")
+
+
+def _session(scheduler: str | None, n_runs: int, envelope: str, sets: list[str]):
+    """The backend the runs go to (distributed.session); the envelope's base scenario warms the compile cache."""
+    from vehicle_assist import distributed
+
+    warm = None
+    if distributed.choose(scheduler, n_runs) == "local":
+        from vehicle_assist.verification.envelope import load_envelope
+
+        warm = load_envelope(envelope, validate=False).base_scenario.with_sets(*sets)
+    return distributed.session(scheduler, n_runs, say=lambda text: console.print(text, markup=False, highlight=False),
+                               warm=warm)
+
+
 def _check_budget(name: str, value: int, lo: int, hi: int) -> None:
     if not lo <= value <= hi:
         _fail(f"{name} = {value}: must be between {lo} and {hi}")
@@ -91,6 +108,7 @@ def falsify(
     set_: Optional[List[str]] = typer.Option(None, "--set", "-s", help="fixed override for every point (repeatable), e.g. a seeded defect"),
     out: Path = typer.Option(Path("out/falsify"), "--out", "-o", help="output directory"),
     keep_going: bool = typer.Option(False, "--keep-going", help="use the whole budget even after a violation"),
+    scheduler: Optional[str] = typer.Option(None, "--scheduler", help=SCHEDULER_HELP),
 ) -> None:
     """Search the envelope for the input that minimises a requirement's robustness (stops at the first violation)."""
     from vehicle_assist.scenarios.errors import InputError
@@ -105,8 +123,9 @@ def falsify(
     out = _out(out)
     _memory_guard(envelope, list(set_ or []), batch)
     try:
-        result = run_falsification(envelope, requirement, budget=budget, seed=seed, optimizer=optimizer, batch=batch,
-                                   sets=list(set_ or []), stop_at_violation=not keep_going, console=console)
+        with _session(scheduler, 2 * budget, envelope, list(set_ or [])):  # 2: a comparative point runs its twin
+            result = run_falsification(envelope, requirement, budget=budget, seed=seed, optimizer=optimizer, batch=batch,
+                                       sets=list(set_ or []), stop_at_violation=not keep_going, console=console)
         paths = write_falsification(result, out)
     except InputError as exc:
         _fail(str(exc))
@@ -134,6 +153,7 @@ def study(
     seed: int = typer.Option(0, "--seed"),
     set_: Optional[List[str]] = typer.Option(None, "--set", "-s", help="fixed override for every point (repeatable)"),
     out: Path = typer.Option(Path("out/study"), "--out", "-o", help="output directory"),
+    scheduler: Optional[str] = typer.Option(None, "--scheduler", help=SCHEDULER_HELP),
 ) -> None:
     """Coverage (Sobol/LHS sampling, pass/fail map) and global sensitivity (SALib Sobol indices) of a requirement."""
     from vehicle_assist.scenarios.errors import InputError
@@ -148,20 +168,21 @@ def study(
     out = _out(out)
     _memory_guard(envelope, list(set_ or []), 16)  # runner.BATCH_CHUNK variants at once
     try:
-        cov = coverage_study(envelope, requirement, samples, method=method, seed=seed, sets=list(set_ or []), out=out,
-                             console=console)
-        console.print(f"coverage: {cov['points']} points ({method}), {cov['violations']} violate "
-                      f"{requirement}; minimum robustness {_num(cov['min_robustness'])} {cov['unit']}; figure {cov['figure']}")
-        if sensitivity:
-            sens = sensitivity_study(envelope, requirement, sensitivity, seed=seed, sets=list(set_ or []), out=out,
-                                     console=console, output=output)
-            table = RichTable(title=f"Sobol indices of {output} for {requirement} ({sens['points']} points)")
-            for col in ("dimension", "S1", "S1 conf", "ST", "ST conf"):
-                table.add_column(col)
-            for row in sens["indices"]:
-                table.add_row(row["dimension"], _num(row["S1"]), _num(row["S1_conf"]), _num(row["ST"]), _num(row["ST_conf"]))
-            console.print(table)
-            console.print(f"figure {sens['figure']}")
+        with _session(scheduler, 2 * (samples + sensitivity * 10), envelope, list(set_ or [])):  # runs: upper estimate
+            cov = coverage_study(envelope, requirement, samples, method=method, seed=seed, sets=list(set_ or []), out=out,
+                                 console=console)
+            console.print(f"coverage: {cov['points']} points ({method}), {cov['violations']} violate "
+                          f"{requirement}; minimum robustness {_num(cov['min_robustness'])} {cov['unit']}; figure {cov['figure']}")
+            if sensitivity:
+                sens = sensitivity_study(envelope, requirement, sensitivity, seed=seed, sets=list(set_ or []), out=out,
+                                         console=console, output=output)
+                table = RichTable(title=f"Sobol indices of {output} for {requirement} ({sens['points']} points)")
+                for col in ("dimension", "S1", "S1 conf", "ST", "ST conf"):
+                    table.add_column(col)
+                for row in sens["indices"]:
+                    table.add_row(row["dimension"], _num(row["S1"]), _num(row["S1_conf"]), _num(row["ST"]), _num(row["ST_conf"]))
+                console.print(table)
+                console.print(f"figure {sens['figure']}")
     except InputError as exc:
         _fail(str(exc))
     except OSError as exc:

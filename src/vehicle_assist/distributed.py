@@ -34,10 +34,21 @@ from vehicle_assist.scenarios.errors import InputError, plain
 
 ENV_VAR = "VEHICLE_ASSIST_SCHEDULER"
 LARGE_RUNS = 20_000
-CONNECT_TIMEOUT_S = 10.0
+CONNECT_TIMEOUT_S = 10.0  # connecting to a scheduler and waiting for its first worker; $VEHICLE_ASSIST_CONNECT_TIMEOUT_S
 EXTRA_HINT = "pip install 'vehicle-assist[dist]' (or: make setup)"
 
 _active: "Backend | None" = None
+
+
+def connect_timeout_s() -> float:
+    text = os.environ.get("VEHICLE_ASSIST_CONNECT_TIMEOUT_S", "")
+    try:
+        value = float(text) if text.strip() else CONNECT_TIMEOUT_S
+    except ValueError:
+        raise InputError(f"$VEHICLE_ASSIST_CONNECT_TIMEOUT_S={plain(text)}: give seconds, e.g. 10") from None
+    if not 0 < value <= 3600:
+        raise InputError(f"$VEHICLE_ASSIST_CONNECT_TIMEOUT_S={plain(text)}: give 0 < seconds <= 3600")
+    return value
 
 
 def active() -> "Backend | None":
@@ -128,15 +139,16 @@ class Backend:
         for name in ("distributed", "distributed.nanny", "distributed.scheduler", "distributed.worker",
                      "distributed.core", "distributed.client", "tornado"):
             logging.getLogger(name).setLevel(logging.CRITICAL)
+        timeout = connect_timeout_s()
         try:
             if self.target == "local":
                 n = self.workers or (os.cpu_count() or 1)
                 env = {"OPENBLAS_NUM_THREADS": "1", "NUMBA_CACHE_DIR": os.environ.get("NUMBA_CACHE_DIR", "")}
                 self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
                                             silence_logs=logging.CRITICAL, env={k: v for k, v in env.items() if v})
-                self.client = Client(self.cluster, timeout=CONNECT_TIMEOUT_S)
+                self.client = Client(self.cluster, timeout=timeout)
             else:
-                self.client = Client(self.target, timeout=CONNECT_TIMEOUT_S)
+                self.client = Client(self.target, timeout=timeout)
         except InputError:
             self.close()
             raise
@@ -144,7 +156,7 @@ class Backend:
             self.close()
             what = str(exc).splitlines()[0] if str(exc) else exc.__class__.__name__
             raise InputError(f"cannot connect to the dask scheduler at {plain(self.target)} within "
-                             f"{CONNECT_TIMEOUT_S:g} s: {plain(what)[:200]}") from None
+                             f"{timeout:g} s: {plain(what)[:200]}") from None
         try:
             self._check_workers()
         except BaseException:
@@ -154,11 +166,12 @@ class Backend:
         return self
 
     def _check_workers(self) -> None:
+        timeout = connect_timeout_s()
         try:
-            self.client.wait_for_workers(1, timeout=CONNECT_TIMEOUT_S)
+            self.client.wait_for_workers(1, timeout=timeout)
         except Exception:
             raise InputError(f"the dask scheduler at {plain(self.target)} has no worker (none joined within "
-                             f"{CONNECT_TIMEOUT_S:g} s); start some with: dask worker {plain(self.target)}") from None
+                             f"{timeout:g} s); start some with: dask worker {plain(self.target)}") from None
         try:
             self.client.get_versions(check=True)
         except Exception as exc:

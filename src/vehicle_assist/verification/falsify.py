@@ -86,7 +86,12 @@ def _metric_names(layout: str) -> list[str]:
 
 def evaluate_points(env: Envelope, req: Requirement, points: list[dict], workers: int | None = None
                     ) -> tuple[list[float], list[dict], list[dict]]:
-    """Robustness of ``req`` at each point (and the points' metrics, and their baseline twins' metrics)."""
+    """Robustness of ``req`` at each point (and the points' metrics, and their baseline twins' metrics).
+    Inside a ``distributed.session`` the points run on the dask cluster (same values, see distributed.py)."""
+    from vehicle_assist import distributed
+
+    if distributed.active() is not None:
+        return distributed.active().evaluate_points(env, req, points)
     from vehicle_assist.core.trace import Trace
     from vehicle_assist.scenarios.runner import simulate_batch
 

@@ -76,7 +76,12 @@ def braked_adhesion_holds(sc) -> bool:
 
 def run_points(env: Envelope, points: list[dict], baseline: bool = True, chunk: int = 256, progress=None
                ) -> tuple[list[dict], list[dict]]:
-    """Metrics of each point's assisted run (and of its no-assist twin), in chunks on all cores."""
+    """Metrics of each point's assisted run (and of its no-assist twin), in chunks on all cores (inside a
+    ``distributed.session``: each chunk a task on the dask cluster, the same chunks, the same values)."""
+    from vehicle_assist import distributed
+
+    if distributed.active() is not None:
+        return distributed.active().run_points(env, points, baseline, chunk, progress)
     from vehicle_assist.scenarios.runner import simulate_batch
 
     names, keep = _study_metrics(env.layout)
