@@ -2,8 +2,11 @@
 
 The falsifier found (issue #11) that the upshift inhibit held 2nd gear to 4008 rpm on a 6 deg downhill curve exit
 with a 1 s late preview (94.7 km/h, R = 30 m), where the normal schedule stayed below 3430 rpm; the engine-protection
-release (upshift_release_speed_rpm) fixes it. Reference: n_max_dn = 4000 rpm (curve_shift.md 5.2) and the no-assist
-twin of the same point. The defect is restored by setting the release above the cut-off: the requirement must fail.
+release (upshift_release_speed_rpm) fixed it, and since item 1 of the review the preview plausibility check also
+catches the late preview at curve entry (fallback to the normal schedule), so curve mode no longer outlasts the
+curve. Reference: n_max_dn = 4000 rpm (curve_shift.md 5.2) and the no-assist twin of the same point. The defect is
+restored by removing both (release above the cut-off, plausibility check off): the requirement must fail.
+Criterion 1 is stated exactly (no exemption): the protection release, when it fires, violates it.
 """
 from __future__ import annotations
 
@@ -31,5 +34,46 @@ def test_falsifier_finding_is_fixed_and_the_defect_fails():
     assert _rob(sc, "curve_shift.no_overspeed") > 0
     twin = va.simulate(env.scenario(POINT, baseline=True)).trace
     assert twin["engine_speed_radps"].max() < 418.879  # the normal schedule alone is safe here
-    defect = sc.with_sets("vehicle.curve_shift.upshift_release_speed_rpm=9000")
+    assert va.simulate(sc).metrics["preview_fallback_count"] == 1  # the late preview is rejected at curve entry
+    no_release = sc.with_sets("vehicle.curve_shift.upshift_release_speed_rpm=9000")
+    assert _rob(no_release, "curve_shift.no_overspeed") > 0  # the plausibility check alone is enough here
+    defect = sc.with_sets("vehicle.curve_shift.upshift_release_speed_rpm=9000",
+                          "vehicle.curve_shift.plausibility_check_flag=0")
     assert _rob(defect, "curve_shift.no_overspeed") < 0
+    # with the release but without the plausibility check the protection fires in curve mode: criterion 1 fails
+    released = va.simulate(sc.with_sets("vehicle.curve_shift.plausibility_check_flag=0"))
+    assert released.metrics["protection_upshifts_count"] == 1
+    assert {r.id: r.robustness for r in released.requirements}["curve_shift.no_upshift_in_curve_mode"] < 0
+    assert released.metrics["upshifts_in_curve_mode_count"] == 1
+
+
+def test_no_upshift_requirement_fails_for_the_normal_schedule():
+    """Negative control of curve_shift.no_upshift_in_curve_mode (criterion 1, reason: the lift-off upshift of the
+    normal schedule, P1/P13): with the strategy off the 65 and 48 km/h cases upshift inside the command window."""
+    from vehicle_assist.verification.requirements import get_requirement, robustness
+
+    req = get_requirement("curve_shift.no_upshift_in_curve_mode")
+    for v in (65, 48):
+        off = va.simulate(va.load_scenario(f"curve_b{v}"))
+        assert robustness(req, off.trace) <= -1.0, v
+        assert off.metrics["upshifts_in_curve_mode_count"] >= 1
+        on = va.simulate(va.load_scenario(f"curve_s{v}"))
+        assert robustness(req, on.trace) >= 0.0, v
+
+
+def test_rtamt_prev_on_numbers_is_not_used():
+    """The requirement compares consecutive gear commands through recorded delay-line channels. Reference: a
+    hand-built trace with one upshift in curve mode gives robustness -1 (gear 2 -> 3), none gives 0."""
+    import numpy as np
+
+    from vehicle_assist.verification.requirements import get_requirement, robustness
+
+    req = get_requirement("curve_shift.no_upshift_in_curve_mode")
+    assert "prev(" not in req.formula
+    g = np.array([2, 2, 3, 3, 3.])
+    tr = {"time_s": np.arange(5) * 0.01, "gear_command_index": g, "gear_command_prev_index": np.r_[2, g[:-1]],
+          "curve_mode_flag": np.ones(5), "curve_mode_prev_flag": np.r_[0, np.ones(4)]}
+    assert robustness(req, tr) == -1.0
+    tr["gear_command_index"] = np.array([3, 3, 2, 2, 2.])
+    tr["gear_command_prev_index"] = np.r_[3, tr["gear_command_index"][:-1]]
+    assert robustness(req, tr) == 0.0

@@ -5,16 +5,29 @@ preview (electronic horizon) of the next curve: distance to its start, radius, l
 
 Modes (a StateMachine, first matching row wins; each change logged with its guard):
 
-    NORMAL -> CURVE   curve_command   preview valid, the next curve starts within command_distance_m, and (unless
-                                      the file says otherwise) the car is faster than the driver's curve speed
-                                      u3 = sqrt(a_y_fit(R)*R) (P9 rule 1: curves needing no deceleration are no
-                                      curves); the strategy is enabled
-    CURVE  -> NORMAL  curve_left      distance integrated from the measured speed since the command exceeds the
-                                      commanded distance + curve length (P13: position from speed integration)
-    CURVE  -> NORMAL  preview_lost    a preview channel reports a sensor fault (lost / timed out) while in curve
-                                      mode: fall back to the normal schedule; the over-speed guard still holds
-                                      (issue #11 faults). "No curve ahead" (valid flag 0 with a healthy channel)
-                                      is not a loss: inside the curve the map reports the next curve or none.
+    NORMAL   -> CURVE    curve_command        preview valid, the next curve starts within command_distance_m, and
+                                              (unless the file says otherwise) the car is faster than the driver's
+                                              curve speed u3 = sqrt(a_y_fit(R)*R) (P9 rule 1: curves needing no
+                                              deceleration are no curves). The command window is tracked whether
+                                              or not the strategy is enabled; only an enabled strategy acts on it
+                                              (with it off the normal schedule runs inside the window, which makes
+                                              the baseline a negative control of criterion 1).
+    CURVE    -> NORMAL   curve_left           distance integrated from the measured speed since the command exceeds
+                                              the commanded distance + curve length (P13: position from speed
+                                              integration)
+    CURVE    -> NORMAL   preview_lost         a preview channel reports a sensor fault (lost / timed out): normal
+                                              schedule; the over-speed guard still holds (issue #11 faults). "No curve
+                                              ahead" (valid flag 0 with a healthy channel) is not a loss.
+    CURVE    -> FALLBACK preview_implausible  the measured path curvature kappa_m = |yaw rate|/u contradicts the
+                                              preview (issue #11 faults "late or wrong"): (a) the curve begins
+                                              earlier than previewed: kappa_m >= onset_frac/R while the odometry
+                                              says the curve is still more than distance_tol_m ahead (a late or
+                                              offset preview); (b) tighter: kappa_m >= ratio/R; (c) wider: past
+                                              the previewed mid-curve the largest kappa_m since the command stayed
+                                              below 1/(ratio*R); each held for confirm_time_s
+    FALLBACK -> NORMAL   curve_left           the odometry has passed the suspect curve (no new command for it)
+
+In FALLBACK the normal schedule runs (with the over-speed guard), as in NORMAL.
 
 At the command (curve_shift.md 5.2): a_y_pred = u_cmd^2/R (held for the whole curve mode),
 a_ypot = a_y_fit(clamp(R, 20, 500))/k (eq. 9, 10), a_ys(u_cmd) from the handling diagram (sec. 3, a table over
@@ -33,8 +46,10 @@ Gear choice every period (in gear, after the dwell since the last shift):
 * Engine protection (added, issue #11 falsification): in CURVE mode an upshift is allowed once the engine reaches
   ``upshift_release_speed_rpm`` (the normal schedule's full-throttle upshift speed); without it the inhibit held
   2nd to 4008 rpm on a downhill curve exit with a late preview, where the normal schedule stayed below 3430 rpm.
-``fixed_kj_ratio >= 0`` replaces frac*kj_max by that value (clipped to kj_max): the proving-ground replication
-of curve_shift.md 8 criterion 11 ("kj chosen assuming a 53 km/h passage", P13).
+  Such a release breaks criterion 1 (no upshift in curve mode) and is counted (``protection_upshift_count``);
+  the requirement ``curve_shift.no_upshift_in_curve_mode`` does not exempt it.
+``fixed_kj_ratio >= 0`` replaces frac*kj_max by that value (clipped to kj_max): curve_shift.md 8 criterion 11
+(eq. 15 with the kj the paper's 27/24 km/h imply); the shipped scenarios compute kj (P13).
 """
 from __future__ import annotations
 
@@ -49,18 +64,22 @@ from vehicle_assist.functions.shift_schedule import downshift_speed_mps, normal_
 
 MACHINE = StateMachine(
     "curve_shift",
-    modes=("NORMAL", "CURVE"),
+    modes=("NORMAL", "CURVE", "FALLBACK"),
     transitions=(
         Transition("NORMAL", "CURVE", "curve_command", "preview: a curve that needs deceleration within the command distance"),
         Transition("CURVE", "NORMAL", "curve_left", "travelled past the commanded distance + curve length"),
         Transition("CURVE", "NORMAL", "preview_lost", "preview channel faulted (lost/timeout): normal schedule + guard"),
+        Transition("CURVE", "FALLBACK", "preview_implausible",
+                   "measured curvature contradicts the preview (curve earlier, tighter or wider): normal schedule + guard"),
+        Transition("FALLBACK", "NORMAL", "curve_left", "odometry past the suspect curve"),
     ),
     doc=__doc__ or "",
 )
 TABLE = MACHINE.table()
-NORMAL, CURVE = range(2)
-G_COMMAND, G_LEFT, G_LOST = range(3)
-assert MACHINE.guards == ("curve_command", "curve_left", "preview_lost")
+NORMAL, CURVE, FALLBACK = range(3)
+G_COMMAND, G_LEFT, G_LOST, G_IMPLAUSIBLE = range(4)
+assert MACHINE.guards == ("curve_command", "curve_left", "preview_lost", "preview_implausible")
+MIN_CURVATURE_SPEED_MPS = 3.0  # assumed: below this the yaw rate says too little about the path curvature
 
 # paper 003 eq. 9 (P6): a_y = -4.585e-8 R^3 + 5.6235e-5 R^2 - 0.0238 R + 4.5947, R in m
 FIT_COEFFS = (-4.585e-8, 5.6235e-5, -0.0238, 4.5947)
@@ -69,7 +88,8 @@ STATE_DTYPE = np.dtype([(n, "f8") for n in (
     "mode", "gear_command_index", "last_shift_end_s", "engaged_prev", "travelled_m", "curve_end_m", "radius_m",
     "command_speed_mps", "lateral_accel_pred_mps2", "tolerable_accel_mps2", "safety_accel_mps2", "kj_frac", "kj_ratio",
     "kj_max_ratio", "normal_downshift_speed_mps", "advanced_downshift_speed_mps", "curve_count",
-    "protection_upshift_count")])
+    "protection_upshift_count", "command_distance_m", "curvature_peak_per_m", "onset_armed", "implausible_time_s",
+    "fallback_count")])
 
 
 def initial_state() -> np.recarray:
@@ -160,6 +180,27 @@ def curve_target_gear(p, st, gear, speed_mps, theta):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def preview_implausible(st, p, kappa_m, dt):
+    """Plausibility of the commanded preview against the measured path curvature kappa_m (see the module doc);
+    updates the peak/arming/confirmation state and returns True once a contradiction has held confirm_time_s."""
+    k_prev = 1.0 / st.radius_m
+    ratio = p.curve_shift_plausibility_curvature_ratio
+    if kappa_m < 0.5 * p.curve_shift_plausibility_onset_frac * k_prev:
+        st.onset_armed = 1.0  # on a straight since the command: an early rise means the curve came early
+    st.curvature_peak_per_m = max(st.curvature_peak_per_m, kappa_m)
+    early = st.onset_armed > 0.5 and kappa_m >= p.curve_shift_plausibility_onset_frac * k_prev and \
+        st.travelled_m < st.command_distance_m - p.curve_shift_plausibility_distance_tol_m
+    tighter = kappa_m >= ratio * k_prev
+    wider = st.travelled_m >= st.command_distance_m + 0.5 * (st.curve_end_m - st.command_distance_m) and \
+        st.curvature_peak_per_m < k_prev / ratio
+    if early or tighter or wider:
+        st.implausible_time_s += dt
+    else:
+        st.implausible_time_s = 0.0
+    return st.implausible_time_s >= p.curve_shift_plausibility_confirm_time_s - 1e-9
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def step(st, meas, p, dt, t, machine_id, events, n_events):
     """One TCU period. Writes st.gear_command_index; returns the event count."""
     u = meas.vehicle_speed_mps
@@ -169,29 +210,35 @@ def step(st, meas, p, dt, t, machine_id, events, n_events):
     valid = meas.curve_valid_flag > 0.5 and meas.curve_valid_ok > 0.5 and meas.curve_distance_ok > 0.5 \
         and meas.curve_radius_ok > 0.5 and meas.curve_length_ok > 0.5 and meas.curve_radius_m > 1.0
     mode = int(st.mode)
-    if mode == CURVE:
+    if mode != NORMAL:
         st.travelled_m += max(u, 0.0) * dt
     r_min = p.curve_shift_fit_radius_min_m
     r_max = p.curve_shift_fit_radius_max_m
     needs_decel = p.curve_shift_command_needs_deceleration_flag < 0.5 or (
         valid and u > curve_speed_mps(meas.curve_radius_m, r_min, r_max))
-    g_command = enabled and mode == NORMAL and valid and 0.0 <= meas.curve_distance_m <= p.curve_shift_command_distance_m \
+    g_command = mode == NORMAL and valid and 0.0 <= meas.curve_distance_m <= p.curve_shift_command_distance_m \
         and needs_decel
-    g_left = mode == CURVE and st.travelled_m >= st.curve_end_m
+    g_left = mode != NORMAL and st.travelled_m >= st.curve_end_m
     channel_ok = meas.curve_valid_ok > 0.5 and meas.curve_distance_ok > 0.5 and meas.curve_radius_ok > 0.5 \
         and meas.curve_length_ok > 0.5
     g_lost = mode == CURVE and not channel_ok
-    guards = np.zeros(3, dtype=np.bool_)
+    g_implausible = False
+    if mode == CURVE and p.curve_shift_plausibility_check_flag > 0.5 and meas.yaw_rate_ok > 0.5 and \
+            u >= MIN_CURVATURE_SPEED_MPS:
+        g_implausible = preview_implausible(st, p, abs(meas.yaw_rate_radps) / u, dt)
+    guards = np.zeros(4, dtype=np.bool_)
     guards[G_COMMAND] = g_command
     guards[G_LEFT] = g_left
     guards[G_LOST] = g_lost
+    guards[G_IMPLAUSIBLE] = g_implausible
     new_mode, reason = next_mode(TABLE, mode, guards)
     if new_mode != mode:
         n_events = log_event(events, n_events, t, machine_id, mode, new_mode, reason)
         if new_mode == CURVE:
             r = meas.curve_radius_m
             st.travelled_m = 0.0
-            st.curve_end_m = max(meas.curve_distance_m, 0.0) + meas.curve_length_m
+            st.command_distance_m = max(meas.curve_distance_m, 0.0)
+            st.curve_end_m = st.command_distance_m + meas.curve_length_m
             st.radius_m = r
             st.command_speed_mps = u
             st.lateral_accel_pred_mps2 = u * u / r
@@ -200,17 +247,23 @@ def step(st, meas, p, dt, t, machine_id, events, n_events):
                                           p.curve_shift_safety_accel_n, p.curve_shift_safety_accel_extrap,
                                           p.curve_shift_safety_accel_interp, u)
             st.kj_frac = advance_fraction(st.lateral_accel_pred_mps2, st.tolerable_accel_mps2, st.safety_accel_mps2)
+            st.curvature_peak_per_m = 0.0
+            st.onset_armed = 0.0
+            st.implausible_time_s = 0.0
             st.curve_count += 1
         else:
             st.kj_frac = 0.0
+            if new_mode == FALLBACK:
+                st.fallback_count += 1
         st.mode = new_mode
         mode = new_mode
+    act = enabled and mode == CURVE  # the strategy acts on the command window only when enabled
 
     # values worth plotting: the line below the engaged gear
     if gear >= 2:
         st.normal_downshift_speed_mps = downshift_speed_mps(p, gear, theta)
         st.kj_max_ratio = kj_max_ratio(p, gear - 1, theta)
-        st.kj_ratio = kj_ratio(p, st, gear - 1, theta) if mode == CURVE else 0.0
+        st.kj_ratio = kj_ratio(p, st, gear - 1, theta) if act else 0.0
         st.advanced_downshift_speed_mps = min(st.normal_downshift_speed_mps * (1.0 + st.kj_ratio),
                                               max_speed_mps(p, gear - 1))
     if int(st.engaged_prev) == 0 and gear > 0:
@@ -221,7 +274,7 @@ def step(st, meas, p, dt, t, machine_id, events, n_events):
     if t - st.last_shift_end_s < p.curve_shift_dwell_time_s:
         st.gear_command_index = gear
         return n_events
-    if mode == CURVE:
+    if act:
         target = curve_target_gear(p, st, gear, u, theta)
         if target == gear and gear < int(p.gearbox_gear_count) and \
                 u * gear_speed_factor(p, gear) >= p.curve_shift_upshift_release_speed_radps:

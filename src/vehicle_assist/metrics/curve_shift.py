@@ -6,8 +6,11 @@ sample of driver phase 1 (APPROACH), curve entry the first of phase 2, curve exi
 Values are NaN when the event does not occur (a check on a NaN fails).
 
 * ``upshifts_signal_to_exit_count``: upshift commands from the curve signal to curve exit (criterion 1).
-* ``upshifts_in_curve_mode_count``: upshift commands while the strategy is in curve mode (criterion 1), without
-  the ones the engine protection released (``protection_upshifts_count``, reported separately).
+* ``upshifts_in_curve_mode_count``: upshift commands while curve mode is active (criterion 1 exactly: the gear
+  index never rises between the curve command and the end of curve mode), the engine-protection releases
+  included; those are also counted on their own (``protection_upshifts_count``). With the strategy off the
+  command window is still tracked, so the normal schedule's lift-off upshift counts (the negative control).
+* ``preview_fallback_count``: times the TCU found the preview implausible and fell back (FALLBACK mode).
 * ``upshifts_after_lift_off_count``: upshift commands within 3 s after the signal (criterion 2, P13).
 * ``shift_count``: gear commands that change the gear.
 * ``downshift_5_4_speed_mps`` / ``_4_3_`` / ``_3_2_``: speed at the first command that crosses the line
@@ -16,14 +19,18 @@ Values are NaN when the event does not occur (a check on a NaN fails).
   speed - u_a(line below the engaged gear, theta) (criterion 3: >= 0, never later than normal).
 * ``engine_speed_after_downshift_max_radps``: highest engine speed in the 0.2 s after a downshift engages
   (criterion 4: <= n_guard).
-* ``kj_used_max_ratio``, ``kj_advance_max_frac``, ``kj_excess_max_ratio`` = max(kj - kj_max) (criterion 5: <= 0).
+* ``kj_used_max_ratio``, ``kj_advance_max_frac`` (criterion 5; kj <= kj_max holds by construction, kj = frac*kj_max
+  with frac in [0, 1], and is unit-tested in tests/functions/test_curve_shift.py).
 * ``gear_at_curve_entry_index``: commanded gear at curve entry (criterion 6); ``gear_drop_max_count``: largest
   drop in one command (criterion 7: >= 2 is a skip shift).
 * ``lateral_accel_max_mps2`` (|a_y|) and ``curve_accel_margin_min_mps2`` = min over the curve phase of
   a_ypot(R) - a_y (criterion 8: >= 0).
 * ``time_straight_s``, ``time_approach_s``, ``time_curve_s``, ``time_exit_s``: time per driver phase.
-* ``engine_work_per_distance_n``: positive engine work over distance (fuel proxy: holding low gears
-  raises the engine speed and the friction work; in J/m = N = kJ/km).
+* ``engine_work_per_distance_n``: fuelled (indicated) engine work over distance, the integral of
+  max(T_e + T_fric, 0)*w_e (brake work plus the friction and pumping work the fuel also pays; zero on overrun
+  fuel cut): a fuel proxy in which holding a low gear at high engine speed shows its friction cost (J/m = N =
+  kJ/km; fuel mass = work/(eta_ind*H_u) for a constant indicated efficiency). ``engine_brake_work_per_distance_n``:
+  the positive brake (flywheel) work alone, for comparison.
 """
 from __future__ import annotations
 
@@ -87,13 +94,17 @@ def upshifts_signal_to_exit_count(trace):
 def upshifts_in_curve_mode_count(trace):
     def f(r):
         i, g0, g1 = _commands(r)
-        # a command issued at the sample where curve mode ends belongs to the normal schedule; an upshift is a
-        # protection release only if the protection counter stepped at that same sample (matched per event)
-        pc = r["protection_upshift_count"]
-        released = pc[i] > pc[i - 1]
-        n = np.sum((g1 > g0) & (r["curve_mode_flag"][i - 1] > 0.5) & (r["curve_mode_flag"][i] > 0.5) & ~released)
+        # a command issued at the sample where curve mode ends belongs to the normal schedule
+        n = np.sum((g1 > g0) & (r["curve_mode_flag"][i - 1] > 0.5) & (r["curve_mode_flag"][i] > 0.5))
         return float(n)
-    return _per_row(trace, ("gear_command_index", "curve_mode_flag", "protection_upshift_count"), f)
+    return _per_row(trace, ("gear_command_index", "curve_mode_flag"), f)
+
+
+def preview_fallback_count(trace):
+    def f(r):
+        x = r["preview_fallback_flag"] > 0.5
+        return float(np.sum(x[1:] & ~x[:-1]) + (1 if x[0] else 0))
+    return _per_row(trace, ("preview_fallback_flag",), f)
 
 
 def curve_mode_in_curve_phase_frac(trace):
@@ -177,10 +188,6 @@ def kj_advance_max_frac(trace):
     return _per_row(trace, ("kj_frac",), lambda r: float(np.max(r["kj_frac"])))
 
 
-def kj_excess_max_ratio(trace):
-    return _per_row(trace, ("kj_ratio", "kj_max_ratio"), lambda r: float(np.max(r["kj_ratio"] - r["kj_max_ratio"])))
-
-
 def gear_at_curve_entry_index(trace):
     def f(r):
         a = _first(r["driver_phase_index"] == CURVE)
@@ -218,21 +225,28 @@ def _phase_time(phase: float):
     return metric
 
 
-def engine_work_per_distance_n(trace):
-    def f(r):
-        work = np.trapezoid(np.maximum(r["engine_power_w"], 0.0), r["time_s"])
-        dist = r["position_m"][-1] - r["position_m"][0]
-        return float(work / dist) if dist > 1.0 else np.nan
-    return _per_row(trace, ("engine_power_w", "position_m"), f)
+def _work_per_distance(channel: str):
+    def metric(trace):
+        def f(r):
+            work = np.trapezoid(np.maximum(r[channel], 0.0), r["time_s"])
+            dist = r["position_m"][-1] - r["position_m"][0]
+            return float(work / dist) if dist > 1.0 else np.nan
+        return _per_row(trace, (channel, "position_m"), f)
+    return metric
+
+
+engine_work_per_distance_n = _work_per_distance("engine_indicated_power_w")
+engine_brake_work_per_distance_n = _work_per_distance("engine_power_w")
 
 
 _GEAR = ("gear_command_index",)
 for _m in (
     Metric("upshifts_signal_to_exit_count", upshifts_signal_to_exit_count, _GEAR + ("driver_phase_index",),
            "upshift commands from the curve signal to curve exit"),
-    Metric("upshifts_in_curve_mode_count", upshifts_in_curve_mode_count,
-           _GEAR + ("curve_mode_flag", "protection_upshift_count"),
-           "upshift commands while the strategy is in curve mode (engine-protection releases excluded)"),
+    Metric("upshifts_in_curve_mode_count", upshifts_in_curve_mode_count, _GEAR + ("curve_mode_flag",),
+           "upshift commands while curve mode is active (engine-protection releases included)"),
+    Metric("preview_fallback_count", preview_fallback_count, ("preview_fallback_flag",),
+           "times the TCU found the preview implausible and fell back to the normal schedule"),
     Metric("curve_mode_in_curve_phase_frac", curve_mode_in_curve_phase_frac, ("driver_phase_index", "curve_mode_flag"),
            "fraction of the curve phase samples with the strategy in curve mode"),
     Metric("protection_upshifts_count", protection_upshifts_count, ("protection_upshift_count",),
@@ -249,7 +263,6 @@ for _m in (
            "highest engine speed within 0.2 s after a downshift engages"),
     Metric("kj_used_max_ratio", kj_used_max_ratio, ("kj_ratio",), "largest downshift advance kj used"),
     Metric("kj_advance_max_frac", kj_advance_max_frac, ("kj_frac",), "largest kj/kj_max fraction of a curve command"),
-    Metric("kj_excess_max_ratio", kj_excess_max_ratio, ("kj_ratio", "kj_max_ratio"), "largest kj - kj_max (<= 0)"),
     Metric("gear_at_curve_entry_index", gear_at_curve_entry_index, _GEAR + ("driver_phase_index",), "commanded gear at curve entry"),
     Metric("gear_drop_max_count", gear_drop_max_count, _GEAR, "largest gear drop in one shift command"),
     Metric("lateral_accel_max_mps2", lateral_accel_max_mps2, ("lateral_accel_mps2",), "largest |a_y|"),
@@ -260,7 +273,9 @@ for _m in (
     Metric("time_approach_s", _phase_time(APPROACH), ("driver_phase_index",), "time in the approach phase"),
     Metric("time_curve_s", _phase_time(CURVE), ("driver_phase_index",), "time in the curve phase"),
     Metric("time_exit_s", _phase_time(EXIT), ("driver_phase_index",), "time in the exit phase"),
-    Metric("engine_work_per_distance_n", engine_work_per_distance_n, ("engine_power_w", "position_m"),
-           "positive engine work per distance (fuel proxy)"),
+    Metric("engine_work_per_distance_n", engine_work_per_distance_n, ("engine_indicated_power_w", "position_m"),
+           "fuelled (indicated) engine work per distance, friction and pumping included (fuel proxy)"),
+    Metric("engine_brake_work_per_distance_n", engine_brake_work_per_distance_n, ("engine_power_w", "position_m"),
+           "positive brake (flywheel) engine work per distance"),
 ):
     register(_m)

@@ -197,12 +197,11 @@ def kj_map(radii=RADII_M, speeds=SPEEDS_KPH):
             variants.append(base.with_sets(f"vehicle.map_preview.radius_scale_frac={r / 65.0!r}",
                                            f"run.initial_speed_kph={v!r}", f'driver.gear_lever={{time_s=[0], gear=["{gear}"]}}'))
     res = simulate_batch(variants, metric_names=["kj_advance_max_frac", "gear_at_curve_entry_index",
-                                                 "engine_speed_after_downshift_max_radps", "upshifts_in_curve_mode_count",
-                                                 "kj_excess_max_ratio"])
+                                                 "engine_speed_after_downshift_max_radps", "upshifts_in_curve_mode_count"])
     shape = (len(radii), len(speeds))
     get = lambda k: np.array([m[k] for m in res.metrics]).reshape(shape)  # noqa: E731
     return (get("kj_advance_max_frac"), get("gear_at_curve_entry_index"), get("engine_speed_after_downshift_max_radps"),
-            get("upshifts_in_curve_mode_count"), get("kj_excess_max_ratio"))
+            get("upshifts_in_curve_mode_count"))
 
 
 def kj_map_extra(out_dir: Path):
@@ -212,7 +211,7 @@ def kj_map_extra(out_dir: Path):
     import matplotlib.pyplot as plt
 
     out_dir = Path(out_dir)
-    frac, gear, w_after, ups, excess = kj_map()
+    frac, gear, w_after, ups = kj_map()
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
     for ax, data, label, cmap in ((axes[0], frac, "kj / kj_max at the command", "viridis"),
                                   (axes[1], gear, "gear at curve entry", "plasma")):
@@ -242,9 +241,6 @@ def kj_map_extra(out_dir: Path):
         {"paper": "003", "scenario": scen, "criterion": "upshifts in curve mode over the map", "negative_control": False,
          "value": float(np.nansum(ups)), "unit": "1", "bound": "<= 0", "pass": bool(np.nansum(ups) == 0),
          "why": "curve_shift.md 8 criterion 1 at every cell"},
-        {"paper": "003", "scenario": scen, "criterion": "largest kj - kj_max over the map", "negative_control": False,
-         "value": float(np.nanmax(excess)), "unit": "1", "bound": "<= 0", "pass": bool(np.nanmax(excess) <= 1e-9),
-         "why": "curve_shift.md 8 criterion 5 (eq. 14) at every cell"},
         {"paper": "003", "scenario": scen, "criterion": "kj/kj_max never decreases with speed at a fixed radius",
          "negative_control": False, "value": float(np.min(np.diff(frac, axis=1))), "unit": "1", "bound": ">= 0",
          "pass": bool(np.all(np.diff(frac, axis=1) >= -1e-9)),

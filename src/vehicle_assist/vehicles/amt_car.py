@@ -97,9 +97,14 @@ CHANNELS: dict[str, str] = {
     "curvature_per_m": "road curvature at the car (left +)",
     "gear_index": "engaged gear (0 = neutral while shifting)",
     "gear_command_index": "gear commanded by the TCU",
+    "gear_command_prev_index": "gear command of the previous recorded sample (recorder delay line: lets an STL "
+                               "requirement compare consecutive commands without rtamt's prev on numbers, which "
+                               "returns 0 for prev(x) - x)",
     "engine_speed_radps": "engine speed",
     "engine_torque_nm": "engine net torque at the flywheel",
     "engine_power_w": "engine power T_e*w_e (negative: motoring)",
+    "engine_indicated_power_w": "fuelled (indicated) engine power max(T_e + T_fric, 0)*w_e: brake power plus the friction "
+                                "and pumping the fuel must also cover; 0 on overrun (fuel cut)",
     "drive_force_n": "tractive force at the wheels",
     "brake_force_n": "service brake force (magnitude of the retarding force)",
     "accelerator_frac": "accelerator (driver)",
@@ -109,7 +114,9 @@ CHANNELS: dict[str, str] = {
     "sideslip_rad": "sideslip angle at the CG",
     "lateral_accel_mps2": "lateral acceleration (single-track mode, left +)",
     "driver_phase_index": "curve driver phase (0 straight, 1 approach, 2 curve, 3 exit; -1 scripted)",
-    "curve_mode_flag": "1 while the curve strategy is in curve mode",
+    "curve_mode_flag": "1 while the curve command window is open (curve mode; the strategy acts on it only when enabled)",
+    "curve_mode_prev_flag": "curve_mode_flag of the previous recorded sample (recorder delay line)",
+    "preview_fallback_flag": "1 while the TCU has found the preview implausible and runs the normal schedule (FALLBACK)",
     "protection_upshift_count": "upshifts the engine protection released in curve mode so far (functions/curve_shift.py)",
     "kj_ratio": "downshift advance kj of the line below the engaged gear (0 outside curve mode)",
     "kj_max_ratio": "kj_max of that line at the current throttle (eq. 14)",
@@ -311,9 +318,12 @@ def simulate(p, s, noise, meas, ctl, drv, tr, events):
             row.curvature_per_m = kappa
             row.gear_index = gear
             row.gear_command_index = ctl.gear_command_index
+            row.gear_command_prev_index = tr[n_rec - 1].gear_command_index if n_rec > 0 else ctl.gear_command_index
             row.engine_speed_radps = w_e
             row.engine_torque_nm = t_e
             row.engine_power_w = t_e * w_e
+            row.engine_indicated_power_w = max(t_e - friction_torque_nm(w_e, p.engine_friction_offset_nm,
+                                                                        p.engine_friction_slope_nm_per_radps), 0.0) * w_e
             row.drive_force_n = f_t
             row.brake_force_n = f_b
             row.accelerator_frac = inputs[IN_ACCELERATOR]
@@ -324,6 +334,8 @@ def simulate(p, s, noise, meas, ctl, drv, tr, events):
             row.lateral_accel_mps2 = a_y
             row.driver_phase_index = drv.phase if use_driver else -1.0
             row.curve_mode_flag = 1.0 if int(ctl.mode) == curve_shift.CURVE else 0.0
+            row.curve_mode_prev_flag = tr[n_rec - 1].curve_mode_flag if n_rec > 0 else 0.0
+            row.preview_fallback_flag = 1.0 if int(ctl.mode) == curve_shift.FALLBACK else 0.0
             row.kj_ratio = ctl.kj_ratio
             row.protection_upshift_count = ctl.protection_upshift_count
             row.kj_max_ratio = ctl.kj_max_ratio
