@@ -11,20 +11,47 @@ Formulas (pure, also used by the tests and the study):
 * ``valve_pressure_pa`` / ``valve_time_s`` (eqs. 29-30): two-segment build after the inlet valve opens and
   its inverse; p1 = 0.45*p_max, p2 = 0.9*p_max; above p2 the time saturates at t2 (flag).
 
-Controller (``blowout_step``), modes as data (``MACHINE``):
-IDLE -> BUILD (blowout_detected): the blown wheel is the one whose wheel speed exceeds the median of the
-others by more than ``wheel_speed_threshold`` for ``detection_delay_s`` (its rolling radius fell) and/or
-the TPMS alarm names it; the ECU then computes loads (its nominal data and the measured a_x), the transfer
-f (eqs. 13-20), M_z_blow with the intact wheels' measured mean slip, p_w and the valve time; the opposite
-wheel of the same axle gets an accumulator build for t_valve, then HOLD. The blown wheel is kept released.
-IDLE -> LIMITED (inlet_valve_stuck): the opposite wheel's inlet valve is diagnosed stuck closed; the
-intact rear (front) wheel of the same side takes over, its pressure capped at the ECU's lock estimate
-mu*F'_z*R/K_b (authority limited: its moment arm and load are smaller) - the reason is logged.
-BUILD -> HOLD (valve_time_elapsed). HOLD/LIMITED -> IDLE (vehicle_slow: v_ref below the minimum speed) and
-HOLD -> IDLE (yaw_implausible: the car yaws away from the presumed blown side by more than
-``abort_yaw_rate`` - a false detection; the brake is released; only with a single detection source: with TPMS
-and wheel speeds both confirming, an over-compensation at low friction is left to ABS, since releasing there
-let the car drift 3.2 m instead of staying near the lane - falsification finding).
+Controller, on the measurement record only (``reference_step`` then ``blowout_step`` every ESP period):
+
+Reference speed (``reference_step``, state ``S_VREF``): the car's speed from the wheels that are not known or
+suspected to be blown (the detected wheel, else the wheel the TPMS names), rate-bounded both ways:
+v = clip(max of those wheels, v_prev - (|a_x| + margin)*dt, v_prev + (max(a_x, 0) + RISE_MARGIN)*dt). The
+deceleration bound is the ESP's (std ABS practice); the rise bound means a blown wheel, whose smaller radius
+makes it read up to (R_out/R_in - 1) ~ 50 % fast within the deflation time, cannot drag the reference up
+before it is found. The ESP uses this reference for ABS while a wheel is excluded, and the estimate takes the
+intact wheels' slip from it (issue #10 review: the old reference included the blown wheel until one period
+after detection, so a braking driver's slips read ~0.3 and the estimate collapsed).
+
+Detection: the wheel-speed signature is a wheel faster than max(v_ref, median of the others) by
+``wheel_speed_threshold`` (its rolling radius fell; the reference keeps deep ABS slip of the others from
+making an intact wheel look fast); the TPMS alarm names a wheel. ``detection`` = wheel speeds, TPMS, or both
+(agreement required). With both, while the driver brakes (brake-light switch) a braked blown wheel shows no
+over-speed (it is braked or locked), so the TPMS alarm alone detects ("TPMS path"); such a detection counts as
+single-source (the yaw-plausibility check below applies). The candidate must persist for ``detection_delay_s``.
+
+Modes (``MACHINE``, rows exercised one by one in tests/functions/test_blowout_compensation.py):
+IDLE -> BUILD (blowout_detected): the ECU computes loads (nominal data, measured a_x), the transfer f
+(eqs. 13-20), M_z_blow at the intact wheels' mean measured slip (eqs. 22-25, branch per wheel), the added
+pressure p_w (eq. 28, zero if the moment already points away from the blown side) on top of the opposite
+wheel's present pressure p_0 (the ECU's estimate: the driver's pressure if braking), and the valve time
+t(p_0 + p_w) - t(p_0) (eq. 30); the opposite wheel of the same axle gets an accumulator build for it.
+IDLE -> LIMITED (inlet_valve_stuck): the opposite wheel's inlet is diagnosed stuck closed at detection: the
+intact wheel of the other axle on the opposite side takes over, capped at the ECU's lock estimate
+mu*F'_z*R/K_b (authority limited: its moment arm/brake are smaller) - limit code 1 and the guard name say why;
+code 2 if that wheel's inlet is stuck as well (no authority). BUILD/HOLD -> LIMITED (inlet_valve_stuck): the
+same diagnosis arriving after the detection.
+BUILD -> HOLD (valve_time_elapsed).
+HOLD/LIMITED -> REJECTED (yaw_implausible), single-source detections only: the car yaws away from the
+presumed blown side by more than ``abort_yaw_rate`` - a false detection: the brake is released AND the blown
+latch is cleared, so the wheel is no longer held released and ABS/HBA run on all four wheels as without the
+function (review finding: the latch stayed and the healthy wheel was never braked again, 5.86 m off the lane
+when the driver then braked); the rejected wheel is remembered so the same single-source signature does not
+re-trigger. With TPMS and wheel speeds agreeing the detection is trusted (an over-compensation at low mu is
+left to ABS: releasing let the car drift 3.2 m, falsification finding).
+REJECTED -> IDLE (signature_cleared): no candidate on the rejected wheel for ``detection_delay_s``.
+REJECTED -> BUILD / LIMITED: a blowout found on another wheel (same guards as from IDLE).
+HOLD/LIMITED -> ENDED (vehicle_slow): reference speed below the minimum speed: compensation over; a real blown
+wheel stays released (it is flat).
 Optional closed loop (``closed_loop_flag``): in HOLD, yaw toward the blown side above the deadband adds
 pulsed build on the braking wheel, yaw away from it dumps; otherwise hold.
 """
@@ -38,24 +65,37 @@ import numpy as np
 from vehicle_assist.core.fsm import StateMachine, Transition, log_event
 from vehicle_assist.plant.tires.blowout import OPPOSITE, redistributed_loads, transfer_n
 
-IDLE, BUILD, HOLD, LIMITED = range(4)
-MODES = ("IDLE", "BUILD", "HOLD", "LIMITED")
+IDLE, BUILD, HOLD, LIMITED, REJECTED, ENDED = range(6)
+MODES = ("IDLE", "BUILD", "HOLD", "LIMITED", "REJECTED", "ENDED")
 MACHINE = StateMachine("blowout_compensation", MODES, (
     Transition("IDLE", "BUILD", "blowout_detected", "wheel speed and/or TPMS name a blown wheel for detection_delay_s"),
     Transition("IDLE", "LIMITED", "inlet_valve_stuck", "opposite wheel's inlet diagnosed stuck closed: same-side other axle, capped"),
     Transition("BUILD", "HOLD", "valve_time_elapsed", "inlet open for t_valve (eq. 30), then hold"),
-    Transition("HOLD", "IDLE", "yaw_implausible", "car yaws away from the presumed blown side: false detection, release"),
-    Transition("HOLD", "IDLE", "vehicle_slow", "reference speed below the minimum speed"),
-    Transition("LIMITED", "IDLE", "vehicle_slow", "reference speed below the minimum speed"),
+    Transition("BUILD", "LIMITED", "inlet_valve_stuck", "opposite inlet diagnosed stuck during the build: other axle, capped"),
+    Transition("HOLD", "LIMITED", "inlet_valve_stuck", "opposite inlet diagnosed stuck during the hold: other axle, capped"),
+    Transition("HOLD", "REJECTED", "yaw_implausible", "single-source detection, car yaws away from the presumed blown side: release, latch cleared"),
+    Transition("LIMITED", "REJECTED", "yaw_implausible", "as from HOLD"),
+    Transition("HOLD", "ENDED", "vehicle_slow", "reference speed below the minimum speed; a real blown wheel stays released"),
+    Transition("LIMITED", "ENDED", "vehicle_slow", "reference speed below the minimum speed"),
+    Transition("REJECTED", "IDLE", "signature_cleared", "no candidate on the rejected wheel for detection_delay_s"),
+    Transition("REJECTED", "BUILD", "blowout_detected", "a blowout found on another wheel"),
+    Transition("REJECTED", "LIMITED", "inlet_valve_stuck", "a blowout found on another wheel, its opposite inlet stuck"),
 ))
-G_DETECTED, G_STUCK, G_VALVE_DONE, G_YAW_IMPLAUSIBLE, G_SLOW = range(5)
-REASONS = ("blowout_detected", "inlet_valve_stuck", "valve_time_elapsed", "yaw_implausible", "vehicle_slow")
+G_DETECTED, G_STUCK, G_VALVE_DONE, G_YAW_IMPLAUSIBLE, G_SLOW, G_CLEARED = range(6)
+REASONS = MACHINE.guards
 # per-wheel requests to the ESP arbitration
 Q_NONE, Q_BUILD, Q_HOLD, Q_RELEASE, Q_PULSE = range(5)
 # state vector
 S_MODE, S_BLOWN, S_SUSPECT, S_SUSPECT_S, S_T_DET, S_M_EST, S_P_REQ, S_T_VALVE, S_ELAPSED, S_TARGET, S_SATURATED, \
-    S_SLIP_EST, S_LIMIT_CODE, S_MODE_ELAPSED = range(14)
-STATE_SIZE = 14
+    S_SLIP_EST, S_LIMIT_CODE, S_MODE_ELAPSED, S_VREF, S_STARTED, S_EXCLUDED, S_REJECTED, S_SOURCES, S_CLEAR_S, \
+    S_P_ADD, S_P_START = range(22)
+STATE_SIZE = 22
+# detection sources (S_SOURCES): bit 1 wheel speeds, bit 2 TPMS
+SRC_WS, SRC_TPMS = 1, 2
+RISE_MARGIN_MPS2 = 2.0  # assumed: the BJ2500 cannot speed up faster than a_x,meas + 2 m/s^2 (0-100 km/h in ~14 s)
+LIMIT_NONE, LIMIT_OTHER_AXLE, LIMIT_NO_AUTHORITY = 0, 1, 2
+LIMIT_REASONS = ("none", "opposite inlet valve stuck closed: other-axle wheel of the same side, capped at its lock pressure",
+                 "opposite inlet valve and its substitute stuck closed: no braking authority")
 
 
 def initial_state() -> np.ndarray:
@@ -63,6 +103,8 @@ def initial_state() -> np.ndarray:
     st[S_BLOWN] = -1.0
     st[S_SUSPECT] = -1.0
     st[S_TARGET] = -1.0
+    st[S_EXCLUDED] = -1.0
+    st[S_REJECTED] = -1.0
     return st
 
 
@@ -99,6 +141,12 @@ def added_yaw_moment_nm(blown, fz_fl, fz_fr, fz_rl, fz_rr, slip, mu, mu_blow, cx
 def required_pressure_pa(m_z_nm, wheel_radius_m, half_track_m, gain_nm_per_pa):
     """Eq. (28): p_w = |M_z_blow|*R_w/(b*K_b), K_b = A_p*r_b*mu_b*eta_b*n_f (eq. 26)."""
     return abs(m_z_nm) * wheel_radius_m / (half_track_m * gain_nm_per_pa)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def toward_blown_side(blown, value):
+    """``value`` (a CCW + yaw rate or moment) signed so that + points toward the blown wheel's side."""
+    return value * (1.0 if (blown == 0 or blown == 2) else -1.0)
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -144,31 +192,145 @@ def ecu_loads(p, a_x):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def blowout_step(st, vw, v_ref, slip_mean, a_x, yaw_rate, tpms_wheel, inlet_ok, p, dt, t, machine_id, events,
+def excluded_wheel(st):
+    """Wheel the reference speed ignores: the detected blown wheel, else the one the TPMS named (-1 none)."""
+    return int(st[S_EXCLUDED])
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def reference_step(st, vw, a_x, tpms_wheel, dt, p):
+    """Rate-bounded reference speed from the wheels not known/suspected blown (module doc); returns it."""
+    ex = int(st[S_BLOWN])
+    if ex < 0 and p.blowout_compensation_enabled_flag > 0.5:
+        ex = int(tpms_wheel + 0.5) - 1
+    st[S_EXCLUDED] = ex if p.blowout_compensation_enabled_flag > 0.5 else -1.0
+    v_max = 0.0
+    for i in range(4):
+        if i != ex:
+            v_max = max(v_max, vw[i])
+    if st[S_STARTED] < 0.5:
+        st[S_STARTED] = 1.0
+        st[S_VREF] = v_max
+        return v_max
+    lo = st[S_VREF] - (abs(min(a_x, 0.0)) + p.esp_reference_decel_margin_mps2) * dt
+    hi = st[S_VREF] + (max(a_x, 0.0) + RISE_MARGIN_MPS2) * dt
+    st[S_VREF] = min(max(v_max, lo), hi)
+    return st[S_VREF]
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def _candidate_ws(vw, v_ref, thr, skip):
+    """Wheel-speed blowout signature: the wheel faster than max(v_ref, median of the others) by thr (-1 none)."""
+    cand = -1
+    best = 0.0
+    for i in range(4):
+        if i == skip:
+            continue
+        others = np.zeros(3)
+        k = 0
+        for j in range(4):
+            if j != i:
+                others[k] = vw[j]
+                k += 1
+        base = max(np.median(others), v_ref)
+        if base > 0.0 and vw[i] > base * (1.0 + thr) and vw[i] / base > best:
+            best = vw[i] / base
+            cand = i
+    return cand
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def _substitute(b):
+    """Intact wheel of the other axle on the side of the opposite wheel (LIMITED)."""
+    o = OPPOSITE[b]
+    return o + 2 if o < 2 else o - 2
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def _plan(st, b, target, limited, slip_mean, a_x, p_est, p):
+    """Estimate (eqs. 13-25), added pressure (eq. 28) on top of the target's present pressure, valve time
+    (eq. 30) for blown wheel b braking ``target``; capped at the lock estimate when ``limited``."""
+    f0, f1, f2, f3 = ecu_loads(p, a_x)
+    d_r = p.body_wheel_radius_m - p.blowout_inner_radius_m
+    f = transfer_n(b, f0, f1, f2, f3, d_r, p.blowout_suspension_rate_front_n_per_m,
+                   p.blowout_suspension_rate_rear_n_per_m)
+    g0, g1, g2, g3 = redistributed_loads(b, f0, f1, f2, f3, f)
+    s_est = min(max(slip_mean, 0.0), 1.0)
+    st[S_SLIP_EST] = s_est
+    b_f = 0.5 * p.chassis_front_track_m
+    b_r = 0.5 * p.chassis_rear_track_m
+    mu = p.blowout_compensation_mu_estimate_frac
+    m_z = added_yaw_moment_nm(b, g0, g1, g2, g3, s_est, mu, mu * p.blowout_compensation_blow_drag_frac,
+                              p.tires_longitudinal_stiffness_n, p.tires_longitudinal_stiffness_n, b_f, b_r)
+    st[S_M_EST] = m_z
+    st[S_TARGET] = target
+    half = b_f if target < 2 else b_r
+    gain = p.brakes_front_gain_nm_per_pa if target < 2 else p.brakes_rear_gain_nm_per_pa
+    # a moment already pointing away from the blown side (intact wheels braked hard) needs no opposite braking
+    p_add = required_pressure_pa(m_z, p.body_wheel_radius_m, half, gain) if toward_blown_side(b, m_z) > 0.0 else 0.0
+    p0 = max(p_est[target], 0.0)
+    if limited:
+        gl = (g0, g1, g2, g3)
+        p_lock = mu * gl[target] * p.body_wheel_radius_m / gain
+        p_add = max(min(p_add, p_lock - p0), 0.0)
+    p_max = p.esp_unit_accumulator_pa
+    t_end, sat = valve_time_s(p0 + p_add, p_max, p.blowout_compensation_valve_dead_time_s,
+                              p.blowout_compensation_valve_t1_s, p.blowout_compensation_valve_t2_s)
+    t_beg, _ = valve_time_s(p0, p_max, p.blowout_compensation_valve_dead_time_s,
+                            p.blowout_compensation_valve_t1_s, p.blowout_compensation_valve_t2_s)
+    dead = p.blowout_compensation_valve_dead_time_s if p0 > 0.0 else 0.0  # the dead time t0 is paid once
+    st[S_P_ADD] = p_add
+    st[S_P_START] = p0
+    st[S_P_REQ] = p0 + p_add
+    st[S_T_VALVE] = max(t_end - t_beg + dead, 0.0) if p_add > 0.0 else 0.0
+    st[S_SATURATED] = 1.0 if sat else 0.0
+    st[S_ELAPSED] = 0.0
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate, tpms_wheel, inlet_ok, p_est, p, dt, t, machine_id, events,
                  n_events, requests):
-    """One ESP period of the compensation; fills ``requests[4]`` (Q_*); returns n_events."""
+    """One ESP period of the compensation (after ``reference_step``); fills ``requests[4]`` (Q_*);
+    ``braking`` = brake-light switch; ``p_est`` = the ECU's wheel-pressure estimates; returns n_events."""
     for i in range(4):
         requests[i] = Q_NONE
     if p.blowout_compensation_enabled_flag < 0.5:
         return n_events
     mode = int(st[S_MODE])
+    rejected = int(st[S_REJECTED])
     # detection: wheel-speed signature and/or TPMS alarm (index 1..4; 0 none)
     cand_ws = -1
+    still = False  # the rejected wheel still shows its signature
     if v_ref > p.blowout_compensation_min_speed_mps:
-        for i in range(4):
-            others = np.zeros(3)
-            k = 0
-            for j in range(4):
-                if j != i:
-                    others[k] = vw[j]
-                    k += 1
-            med = np.median(others)
-            if vw[i] > med * (1.0 + p.blowout_compensation_wheel_speed_threshold_frac):
-                cand_ws = i
+        thr = p.blowout_compensation_wheel_speed_threshold_frac
+        cand_ws = _candidate_ws(vw, v_ref, thr, rejected if mode == REJECTED else -1)
+        if mode == REJECTED:
+            still = _candidate_ws(vw, v_ref, thr, -1) == rejected
     cand_tp = int(tpms_wheel + 0.5) - 1
     src = int(p.blowout_compensation_detection)  # 0 wheel speeds, 1 TPMS, 2 both
-    cand = cand_ws if src == 0 else cand_tp if src == 1 else (cand_ws if cand_ws == cand_tp else -1)
-    if mode == IDLE and st[S_BLOWN] < 0.0:
+    sources = 0
+    cand = -1
+    if src == 0:
+        cand, sources = cand_ws, SRC_WS
+    elif src == 1:
+        cand, sources = cand_tp, SRC_TPMS
+    elif cand_ws >= 0 and cand_ws == cand_tp:
+        cand, sources = cand_ws, SRC_WS + SRC_TPMS
+    elif cand_tp >= 0 and braking > 0.5:
+        cand, sources = cand_tp, SRC_TPMS  # TPMS path: a braked blown wheel shows no over-speed
+    if mode == REJECTED:
+        if cand == rejected:
+            cand = -1  # the rejected signature does not re-trigger
+        if still or cand_tp == rejected:
+            st[S_CLEAR_S] = 0.0
+        else:
+            st[S_CLEAR_S] += dt
+            if st[S_CLEAR_S] >= p.blowout_compensation_detection_delay_s - 1e-9 and cand < 0:
+                n_events = log_event(events, n_events, t, machine_id, mode, IDLE, G_CLEARED)
+                mode = IDLE
+                st[S_MODE] = mode
+                st[S_REJECTED] = -1.0
+    if mode == IDLE or mode == REJECTED:
         if cand >= 0 and cand == int(st[S_SUSPECT]):
             st[S_SUSPECT_S] += dt
         else:
@@ -177,74 +339,61 @@ def blowout_step(st, vw, v_ref, slip_mean, a_x, yaw_rate, tpms_wheel, inlet_ok, 
         if cand >= 0 and st[S_SUSPECT_S] >= p.blowout_compensation_detection_delay_s - 1e-9:
             b = cand
             st[S_BLOWN] = b
+            st[S_EXCLUDED] = b
             st[S_T_DET] = t
-            # estimate (eqs. 13-25) with the ECU's nominal data
-            f0, f1, f2, f3 = ecu_loads(p, a_x)
-            d_r = p.body_wheel_radius_m - p.blowout_inner_radius_m
-            f = transfer_n(b, f0, f1, f2, f3, d_r, p.blowout_suspension_rate_front_n_per_m,
-                           p.blowout_suspension_rate_rear_n_per_m)
-            g0, g1, g2, g3 = redistributed_loads(b, f0, f1, f2, f3, f)
-            s_est = min(max(slip_mean, 0.0), 0.3)
-            st[S_SLIP_EST] = s_est
-            b_f = 0.5 * p.chassis_front_track_m
-            b_r = 0.5 * p.chassis_rear_track_m
-            mu = p.blowout_compensation_mu_estimate_frac
-            m_z = added_yaw_moment_nm(b, g0, g1, g2, g3, s_est, mu, mu * p.blowout_compensation_blow_drag_frac,
-                                      p.tires_longitudinal_stiffness_n, p.tires_longitudinal_stiffness_n, b_f, b_r)
-            st[S_M_EST] = m_z
+            st[S_SOURCES] = sources
+            st[S_REJECTED] = -1.0
+            # intact wheels' mean slip from the intact reference (only while the driver brakes)
+            slip_mean = 0.0
+            if braking > 0.5 and v_ref > 1.0:
+                for i in range(4):
+                    if i != b:
+                        slip_mean += max((v_ref - vw[i]) / v_ref, 0.0) / 3.0
             target = OPPOSITE[b]
             new = BUILD
             reason = G_DETECTED
+            st[S_LIMIT_CODE] = LIMIT_NONE
             if inlet_ok[target] < 0.5:
-                target = OPPOSITE[b] + 2 if b < 2 else OPPOSITE[b] - 2  # same side as the opposite wheel, other axle
+                target = _substitute(b)
                 new = LIMITED
                 reason = G_STUCK
-                st[S_LIMIT_CODE] = 1.0
-            st[S_TARGET] = target
-            half = b_f if target < 2 else b_r
-            gain = p.brakes_front_gain_nm_per_pa if target < 2 else p.brakes_rear_gain_nm_per_pa
-            p_req = required_pressure_pa(m_z, p.body_wheel_radius_m, half, gain)
-            if new == LIMITED:
-                gl = (g0, g1, g2, g3)
-                p_lock = mu * gl[target] * p.body_wheel_radius_m / gain
-                p_req = min(p_req, p_lock)
-            p_max = p.esp_unit_accumulator_pa
-            t_v, sat = valve_time_s(p_req, p_max, p.blowout_compensation_valve_dead_time_s,
-                                    p.blowout_compensation_valve_t1_s, p.blowout_compensation_valve_t2_s)
-            st[S_P_REQ] = p_req
-            st[S_T_VALVE] = t_v
-            st[S_SATURATED] = 1.0 if sat else 0.0
-            st[S_ELAPSED] = 0.0
+                st[S_LIMIT_CODE] = LIMIT_OTHER_AXLE if inlet_ok[target] > 0.5 else LIMIT_NO_AUTHORITY
+            _plan(st, b, target, new == LIMITED, slip_mean, a_x, p_est, p)
             n_events = log_event(events, n_events, t, machine_id, mode, new, reason)
             mode = new
             st[S_MODE] = mode
-            if inlet_ok[target] < 0.5:  # no healthy wheel on that side either: no authority
-                st[S_LIMIT_CODE] = 2.0
-    elif mode == BUILD or mode == LIMITED:
-        st[S_ELAPSED] += dt
-        if mode == BUILD and st[S_ELAPSED] >= st[S_T_VALVE] - 1e-9:
-            n_events = log_event(events, n_events, t, machine_id, mode, HOLD, G_VALVE_DONE)
-            mode = HOLD
-            st[S_MODE] = mode
-        elif mode == LIMITED and v_ref < p.blowout_compensation_min_speed_mps:
-            n_events = log_event(events, n_events, t, machine_id, mode, IDLE, G_SLOW)
-            mode = IDLE
-            st[S_MODE] = mode
-    elif mode == HOLD:
+    elif mode == BUILD or mode == HOLD or mode == LIMITED:
         st[S_ELAPSED] += dt
         b = int(st[S_BLOWN])
-        toward = yaw_rate * (1.0 if (b == 0 or b == 2) else -1.0)  # yaw toward the blown side +
-        # plausibility by yaw only for a single-source detection; TPMS + wheel speeds together are trusted
-        if src != 2 and toward < -p.blowout_compensation_abort_yaw_rate_radps:
-            n_events = log_event(events, n_events, t, machine_id, mode, IDLE, G_YAW_IMPLAUSIBLE)
-            mode = IDLE
-            st[S_MODE] = mode
-            st[S_TARGET] = -1.0  # released; the blown flag stays (no re-detection of the same event)
-        elif v_ref < p.blowout_compensation_min_speed_mps:
-            n_events = log_event(events, n_events, t, machine_id, mode, IDLE, G_SLOW)
-            mode = IDLE
-            st[S_MODE] = mode
+        tg = int(st[S_TARGET])
+        toward = toward_blown_side(b, yaw_rate)  # yaw toward the blown side +
+        single = st[S_SOURCES] < SRC_WS + SRC_TPMS - 0.5
+        if (mode == BUILD or mode == HOLD) and inlet_ok[tg] < 0.5:
+            # diagnosis after the detection: re-plan on the substitute wheel (slip as at detection)
+            sub = _substitute(b)
+            st[S_LIMIT_CODE] = LIMIT_OTHER_AXLE if inlet_ok[sub] > 0.5 else LIMIT_NO_AUTHORITY
+            _plan(st, b, sub, True, st[S_SLIP_EST], a_x, p_est, p)
+            n_events = log_event(events, n_events, t, machine_id, mode, LIMITED, G_STUCK)
+            mode = LIMITED
+        elif mode == BUILD:
+            if st[S_ELAPSED] >= st[S_T_VALVE] - 1e-9:
+                n_events = log_event(events, n_events, t, machine_id, mode, HOLD, G_VALVE_DONE)
+                mode = HOLD
+        elif single and toward < -p.blowout_compensation_abort_yaw_rate_radps:
+            n_events = log_event(events, n_events, t, machine_id, mode, REJECTED, G_YAW_IMPLAUSIBLE)
+            mode = REJECTED
+            st[S_REJECTED] = b
+            st[S_BLOWN] = -1.0  # latch cleared: no wheel is held released any more, ABS/HBA run as without the function
+            st[S_EXCLUDED] = -1.0
             st[S_TARGET] = -1.0
+            st[S_CLEAR_S] = 0.0
+            st[S_SUSPECT] = -1.0
+            st[S_SUSPECT_S] = 0.0
+        elif v_ref < p.blowout_compensation_min_speed_mps:
+            n_events = log_event(events, n_events, t, machine_id, mode, ENDED, G_SLOW)
+            mode = ENDED
+            st[S_TARGET] = -1.0
+        st[S_MODE] = mode
     st[S_MODE_ELAPSED] = st[S_ELAPSED]
     # requests
     b = int(st[S_BLOWN])
@@ -259,7 +408,7 @@ def blowout_step(st, vw, v_ref, slip_mean, a_x, yaw_rate, tpms_wheel, inlet_ok, 
         elif mode == HOLD:
             requests[tg] = Q_HOLD
             if p.blowout_compensation_closed_loop_flag > 0.5:
-                toward = yaw_rate * (1.0 if (b == 0 or b == 2) else -1.0)
+                toward = toward_blown_side(b, yaw_rate)
                 if toward > p.blowout_compensation_yaw_deadband_radps:
                     requests[tg] = Q_PULSE
                 elif toward < -p.blowout_compensation_yaw_deadband_radps:

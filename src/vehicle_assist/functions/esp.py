@@ -109,12 +109,11 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     vw2 = meas.wheel_speed_rl_radps * r_w
     vw3 = meas.wheel_speed_rr_radps * r_w
     v_max = max(max(vw0, vw1), max(vw2, vw3))
-    blown = int(bst[bc.S_BLOWN])
-    if blown >= 0:  # a blown wheel turns faster (smaller radius): the reference ignores it
-        v_max = 0.0
-        for i, vw in enumerate((vw0, vw1, vw2, vw3)):
-            if i != blown:
-                v_max = max(v_max, vw)
+    vw_arr = np.array([vw0, vw1, vw2, vw3])
+    tpms = meas.tpms_alarm_wheel_index if meas.tpms_alarm_wheel_ok > 0.5 else 0.0
+    # blowout compensation's reference from the wheels not known/suspected blown, rate-bounded (issue #10)
+    v_ref_intact = bc.reference_step(bst, vw_arr, meas.longitudinal_accel_mps2, tpms, dt, p)
+    blown = bc.excluded_wheel(bst)
     wheels_ok = (meas.wheel_speed_fl_ok > 0.5 and meas.wheel_speed_fr_ok > 0.5 and meas.wheel_speed_rl_ok > 0.5
                  and meas.wheel_speed_rr_ok > 0.5)
     if ctl[C_STARTED] < 0.5:
@@ -127,8 +126,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         hst[hba.S_P_PREV] = meas.master_pressure_pa
     decel = abs(min(meas.longitudinal_accel_mps2, 0.0)) + p.esp_reference_decel_margin_mps2
     v_ref = max(v_max, ctl[C_V_REF] - decel * dt)
-    if blown >= 0 and t - bst[bc.S_T_DET] <= dt + 1e-9:
-        v_ref = v_max  # re-seeded from the intact wheels in the period after the detection
+    if blown >= 0:
+        v_ref = v_ref_intact  # a blown wheel turns faster (smaller radius): the reference ignores it
     ctl[C_V_REF] = v_ref
     ctl[C_T] = t
 
@@ -223,20 +222,11 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         hba_mode = new
 
     # blowout compensation (functions/blowout_compensation.py)
-    vw_arr = np.array([vw0, vw1, vw2, vw3])
-    slip_sum = 0.0
-    i_max = 0
-    for i in range(4):
-        if vw_arr[i] > vw_arr[i_max]:
-            i_max = i
-    for i in range(4):
-        if i != i_max:
-            slip_sum += max(wheels[i, A_SLIP], 0.0)
     inlet_ok = np.array([meas.inlet_valve_fl_ok, meas.inlet_valve_fr_ok, meas.inlet_valve_rl_ok, meas.inlet_valve_rr_ok])
     blow_req = np.zeros(4, dtype=np.int64)
-    tpms = meas.tpms_alarm_wheel_index if meas.tpms_alarm_wheel_ok > 0.5 else 0.0
-    n_events = bc.blowout_step(bst, vw_arr, v_ref, slip_sum / 3.0 if bls else 0.0, meas.longitudinal_accel_mps2,
-                               meas.yaw_rate_radps, tpms, inlet_ok, p, dt, t, m_blow, events, n_events, blow_req)
+    p_est = wheels[:, A_P_EST].copy()
+    n_events = bc.blowout_step(bst, vw_arr, v_ref_intact, 1.0 if bls else 0.0, meas.longitudinal_accel_mps2,
+                               meas.yaw_rate_radps, tpms, inlet_ok, p_est, p, dt, t, m_blow, events, n_events, blow_req)
 
     # arbitration and the ECU's pressure estimate
     for i in range(4):

@@ -22,6 +22,8 @@ LANE_MARGIN_M = 0.5 * (LANE_WIDTH_M - CAR_WIDTH_M)
 YAW_WINDOW_S = 2.0  # tire_blowout.md 9.5
 PATH_TIME_S = 3.0  # tire_blowout.md 9.5
 DEFAULT_BLOWOUT_S = 1.0
+RELEASE_S = 0.25  # derived: detection ~0.08 s (0.05 s delay + signature) + dump of 150 bar to within 0.5 bar of the LPA, tau_dump*ln(300) = 0.17 s
+TRACK_M = 1.473  # BJ2500 track B_f = B_r (tire_blowout.md 7, assumed there); the diagnostic M_x uses it
 W = ("fl", "fr", "rl", "rr")
 
 
@@ -100,32 +102,78 @@ def _detect_time(t, phi, mode, det):
     return float(t[idx[0]] - tb) if idx.size else float("inf")
 
 
-def _blown_pressure(t, det, p0, p1, p2, p3):
-    idx = np.flatnonzero(det >= 0.0)
+def _true_blown(blown):
+    """(wheel index, first sample index) of the plant's blown wheel (metrics may read plant truth), or (-1, -1)."""
+    idx = np.flatnonzero(blown >= 0.0)
     if not idx.size:
-        return 0.0
-    b = int(det[idx[-1]])
-    return float(np.max((p0, p1, p2, p3)[b][idx[0]:]))
+        return -1, -1
+    return int(blown[idx[0]]), int(idx[0])
 
 
-def _opposite_pressure(t, det, p0, p1, p2, p3):
+def _blown_pressure(t, blown, p0, p1, p2, p3):
+    """Largest pressure of the wheel that actually blew (plant truth), over the whole run after the blowout;
+    NaN without a blowout (nothing to judge)."""
+    b, k = _true_blown(blown)
+    if b < 0:
+        return float("nan")
+    return float(np.max((p0, p1, p2, p3)[b][k:]))
+
+
+def _blown_pressure_late(t, blown, p0, p1, p2, p3):
+    """As _blown_pressure from t_b + RELEASE_S on: a driver's pressure already in the wheel at the blowout has
+    to be found and dumped first."""
+    b, k = _true_blown(blown)
+    if b < 0:
+        return float("nan")
+    w = t >= t[k] + RELEASE_S - 1e-9
+    return float(np.max((p0, p1, p2, p3)[b][w])) if np.any(w) else float("nan")
+
+
+def _opposite_pressure(t, blown, p0, p1, p2, p3):
+    """Largest pressure of the intact wheel on the same axle as the actually blown one, after the blowout."""
+    b, k = _true_blown(blown)
+    if b < 0:
+        return float("nan")
+    return float(np.max((p0, p1, p2, p3)[(1, 0, 3, 2)[b]][k:]))
+
+
+def _balance_window(t, phi, mode, det, tv):
     idx = np.flatnonzero(det >= 0.0)
     if not idx.size:
-        return 0.0
-    b = int(det[idx[-1]])
-    return float(np.max((p0, p1, p2, p3)[(1, 0, 3, 2)[b]][idx[0]:]))
+        return None
+    tb = blowout_time_s(t, phi, mode)
+    w = _window(t, t[idx[0]] + tv[idx[0]], tb + YAW_WINDOW_S)
+    return w if np.any(w) else None
 
 
 def _balance(t, phi, mode, det, tv, m_est, m_z):
-    """Criterion 6: max |net yaw moment| / |M_z_blow estimate| after t_det + t_valve + 0.1 s (pressure settled)
-    to t_b + 2 s."""
-    idx = np.flatnonzero(det >= 0.0)
-    if not idx.size or abs(m_est[-1]) < 1.0:
+    """Criterion 9.6 as the spec defines it: max |net yaw moment M_x + M_y + M_c| / |M_z_blow estimate| after
+    t_det + t_valve, up to t_b + 2 s (the net moment is I_z dr/dt)."""
+    w = _balance_window(t, phi, mode, det, tv)
+    if w is None or abs(m_est[-1]) < 1.0:
         return float("nan")
-    tb = blowout_time_s(t, phi, mode)
-    t0 = t[idx[0]] + tv[-1] + 0.1
-    w = _window(t, t0, tb + YAW_WINDOW_S)
-    return float(np.max(np.abs(m_z[w])) / abs(m_est[-1])) if np.any(w) else float("nan")
+    return float(np.max(np.abs(m_z[w])) / abs(m_est[-1]))
+
+
+def _longitudinal_moment(fx, drag, blown, b_f, b_r):
+    """Eq. (9) from the recorded longitudinal tire forces (forward +) and the blown tire's rim drag:
+    M_x = b_f*(X_fr - X_fl) + b_r*(X_rr - X_rl) (straight-ahead steer)."""
+    x = [np.array(f, dtype=float) for f in fx]
+    b, _ = _true_blown(blown)
+    if b >= 0:
+        x[b] = x[b] - drag
+    return b_f * (x[1] - x[0]) + b_r * (x[3] - x[2])
+
+
+def _brake_balance(t, phi, mode, det, tv, m_est, blown, drag, f0, f1, f2, f3):
+    """Diagnostic for 9.6: max |M_x| (longitudinal forces only: blown-wheel drag + brakes, eq. 9 with M_c) /
+    |M_z_blow estimate| in the 9.6 window; the rest of the net moment is the lateral forces' M_y."""
+    w = _balance_window(t, phi, mode, det, tv)
+    if w is None or abs(m_est[-1]) < 1.0:
+        return float("nan")
+    half = 0.5 * TRACK_M
+    m_x = _longitudinal_moment((f0, f1, f2, f3), drag, blown, half, half)
+    return float(np.max(np.abs(m_x[w])) / abs(m_est[-1]))
 
 
 _BASE = ("blowout_frac", "blowout_mode_index")
@@ -147,13 +195,19 @@ _DEFS = [
     ("blowout_valve_time_s", lambda t, v: float(np.max(v)), ("blowout_valve_time_s",), "valve-opening time (eq. 30)"),
     ("blowout_saturated_flag", lambda t, v: float(np.max(v)), ("blowout_saturated_flag",), "accumulator too low"),
     ("blowout_limit_code", lambda t, v: float(np.max(v)), ("blowout_limit_code",), "authority limit reason code"),
-    ("blowout_blown_wheel_pressure_max_pa", _blown_pressure, ("blowout_detected_wheel_index",) + PRESSURES,
-     "largest pressure of the blown wheel after detection (criterion 3: not braked)"),
-    ("blowout_opposite_pressure_max_pa", _opposite_pressure, ("blowout_detected_wheel_index",) + PRESSURES,
-     "largest pressure of the opposite wheel after detection"),
+    ("blowout_blown_wheel_pressure_max_pa", _blown_pressure, ("blowout_wheel_index",) + PRESSURES,
+     "largest pressure of the actually blown wheel (plant truth) over the run after the blowout (criterion 9.3)"),
+    ("blowout_blown_wheel_pressure_late_max_pa", _blown_pressure_late, ("blowout_wheel_index",) + PRESSURES,
+     "as blowout_blown_wheel_pressure_max_pa from t_b + 0.25 s (a driver's pressure at the blowout dumped)"),
+    ("blowout_opposite_pressure_max_pa", _opposite_pressure, ("blowout_wheel_index",) + PRESSURES,
+     "largest pressure of the intact wheel on the blown wheel's axle after the blowout"),
     ("blowout_balance_ratio_frac", _balance,
      _BASE + ("blowout_detected_wheel_index", "blowout_valve_time_s", "blowout_moment_est_nm", "yaw_moment_nm"),
-     "criterion 6: max |net yaw moment| / |M_z_blow| after the build"),
+     "criterion 9.6: max |net yaw moment| / |M_z_blow| after t_det + t_valve to t_b + 2 s"),
+    ("blowout_brake_balance_ratio_frac", _brake_balance,
+     _BASE + ("blowout_detected_wheel_index", "blowout_valve_time_s", "blowout_moment_est_nm", "blowout_wheel_index",
+              "blowout_drag_n") + tuple(f"tire_force_x_{w}_n" for w in W),
+     "9.6 diagnostic: max |M_x of the longitudinal forces| / |M_z_blow| in the 9.6 window"),
 ]
 for _name, _fn, _names, _doc in _DEFS:
     register(Metric(_name, _per_row(_fn, _names), _names, _doc))

@@ -105,8 +105,9 @@ _CH = {
     "blowout_drag_n": "retarding drag of the blown tire on its rim",
     "blowout_mode_index": "compensation mode (functions/blowout_compensation.py MODES)",
     "blowout_detected_wheel_index": "wheel the ECU found blown (-1 none)",
+    "blowout_wheel_index": "plant truth: the wheel that blew out, from the blowout on (-1 none or before); metrics only",
     "blowout_moment_est_nm": "the ECU's estimate of the added yaw moment M_z_blow (eqs. 22-25)",
-    "blowout_pressure_req_pa": "required opposite-wheel pressure (eq. 28)",
+    "blowout_pressure_req_pa": "target pressure of the compensating wheel: its pressure at detection + p_w (eq. 28)",
     "blowout_valve_time_s": "inlet-valve opening time (eq. 30)",
     "blowout_saturated_flag": "1 if the required pressure exceeds 0.9 p_max (accumulator too low)",
     "blowout_limit_code": "authority limit: 0 none, 1 opposite inlet stuck (other axle used), 2 no healthy wheel",
@@ -410,6 +411,7 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
             row.blowout_drag_n = f_bd
             row.blowout_mode_index = bst[bc.S_MODE]
             row.blowout_detected_wheel_index = bst[bc.S_BLOWN]
+            row.blowout_wheel_index = float(blown) if (blown >= 0 and phi > 0.0) else -1.0
             row.blowout_moment_est_nm = bst[bc.S_M_EST]
             row.blowout_pressure_req_pa = bst[bc.S_P_REQ]
             row.blowout_valve_time_s = bst[bc.S_T_VALVE]
