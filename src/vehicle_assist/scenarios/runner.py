@@ -28,7 +28,7 @@ from vehicle_assist.vehicles import layouts
 from vehicle_assist.vehicles.common import EVENT_BUFFER
 
 TABLE_CAPACITY_STEP = 32  # table and array fields are padded to multiples of this: one dtype, one compile
-BATCH_CHUNK = 16  # variants per metrics evaluation in a batch (memory: 64 x samples x channels x 8 B)
+BATCH_CHUNK = 32  # at most this many variants per compiled call and metrics evaluation (one trace buffer per worker)
 
 
 @dataclass
@@ -266,8 +266,32 @@ class BatchResult:
         return f"<BatchResult {len(self.metrics)} variants, {sum(self.checks_ok)} with checks ok>"
 
 
+def _noise_key(run, noisy: bool) -> tuple:
+    return (run.seed, run.duration_s, run.controller_period_s, noisy)
+
+
+def _checks_ok(checks, metrics: dict[str, np.ndarray], n: int) -> np.ndarray:
+    """:func:`evaluate_checks` of one check list for a chunk of runs at once (one bool per run)."""
+    ok = np.ones(n, dtype=bool)
+    for c in checks:
+        value = np.asarray(metrics.get(c.metric, np.full(n, np.nan)), dtype=np.float64)
+        with np.errstate(invalid="ignore"):
+            holds = np.isfinite(value)
+            if c.min is not None:
+                holds &= value >= c.min
+            if c.max is not None:
+                holds &= value <= c.max
+        ok &= holds if c.expect == "pass" else ~holds
+    return ok
+
+
+def _chunk_size(n_rec: int, itemsize: int) -> int:
+    """Variants per chunk: up to BATCH_CHUNK, a trace buffer of at most ~32 MB per worker."""
+    return int(max(4, min(BATCH_CHUNK, 32_000_000 // max(1, n_rec * itemsize))))
+
+
 def simulate_batch(
-    scenarios: Sequence[LoadedScenario],
+    scenarios,
     keep_channels: Iterable[str] = (),
     keep_every: int = 1,
     metric_names: Iterable[str] | None = None,
@@ -276,62 +300,143 @@ def simulate_batch(
 ) -> BatchResult:
     """Run many variants of one layout in one call, on ``workers`` threads (default: all cores).
 
-    Memory stays bounded: each worker reuses one trace buffer; only ``keep_channels`` (every
-    ``keep_every``-th record) and the metrics of each variant are kept.
+    ``scenarios``: a list of scenarios of one layout, or a :class:`~vehicle_assist.scenarios.variants.VariantSet`
+    from :func:`~vehicle_assist.scenarios.variants.build_variants` (its records are written per chunk, no
+    scenario object per variant). Memory stays bounded: each worker reuses one trace buffer; only
+    ``keep_channels`` (every ``keep_every``-th record) and the metrics of each variant are kept.
+
+    Each chunk of variants is one compiled call (``run_chunk`` of the layout) and its metrics are computed by
+    the compiled twins of :mod:`vehicle_assist.metrics.fast` (identical values to :func:`compute_metrics`).
     """
-    if not scenarios:
+    from vehicle_assist.metrics.fast import compute_metrics_fast
+    from vehicle_assist.scenarios.variants import VariantSet
+
+    vset = scenarios if isinstance(scenarios, VariantSet) else None
+    if not len(scenarios):
         return BatchResult([], [], [], [])
-    layout = scenarios[0].layout
-    if any(sc.layout != layout for sc in scenarios):
-        raise ValueError("a batch must use one vehicle layout; split it by layout")
+    if vset is not None:
+        layout = vset.layout
+        base = vset.base
+    else:
+        scenarios = list(scenarios)
+        layout = scenarios[0].layout
+        if any(sc.layout != layout for sc in scenarios):
+            raise ValueError("a batch must use one vehicle layout; split it by layout")
+        base = None
     lay = layouts.get(layout)
     keep = [c for c in keep_channels]
     for c in keep:
         if c not in lay.CHANNELS:
             raise ValueError(f"unknown channel {c!r} for {layout}")
     names = list(metric_names) if metric_names is not None else None
-    p_all = pack_records([sc.vehicle.flat() for sc in scenarios])
-    s_all = pack_records([sc.flat for sc in scenarios])
     n = len(scenarios)
+    n_sens = len(lay.SENSORS)
+    if vset is None:
+        p_all = pack_records([sc.vehicle.flat() for sc in scenarios])
+        s_all = pack_records([sc.flat for sc in scenarios])
+        noisy = np.any(np.nan_to_num(np.asarray(s_all["sensor_noise_std"]).reshape(n, -1)) != 0.0, axis=1)  # NaN: padding
+        n_records = [_n_records(sc) for sc in scenarios]
+        runs = [sc.model.run for sc in scenarios]
+        same_checks = all(sc.model.checks is scenarios[0].model.checks for sc in scenarios)
+        overrides = [tuple(sc.sets) for sc in scenarios]
+    else:
+        p_all = s_all = None
+        n_records = None
+        same_checks = True
+        overrides = vset.overrides()
     metrics: list[dict] = [{} for _ in range(n)]
     kept: list[dict] = [{} for _ in range(n)]
     oks: list[bool] = [True] * n
-    workers = workers or min(os.cpu_count() or 1, n)
+    workers = max(1, min(workers or (os.cpu_count() or 1), n))
+    rec_max = max(n_records) if n_records is not None else _n_records(base)
+    chunk = _chunk_size(rec_max, lay.TRACE_DTYPE.itemsize)
+    blocks = [(lo, min(n, lo + chunk)) for lo in range(0, n, chunk)]
+    noises: dict[tuple, np.ndarray] = {}
+    run_chunk = getattr(lay, "run_chunk", None)
 
-    def work(indices: list[int]) -> None:
-        # kernels fill a (chunk, samples) buffer; metrics then run once per chunk on (chunk, samples)
-        # arrays, so the Python cost per variant (which holds the GIL) stays small
-        for lo in range(0, len(indices), BATCH_CHUNK):
-            part = indices[lo:lo + BATCH_CHUNK]
-            n_recs = [_n_records(scenarios[i]) for i in part]
-            rows = np.zeros((len(part), max(n_recs)), dtype=lay.TRACE_DTYPE)
-            events = np.zeros((EVENT_BUFFER, EVENT_FIELDS))
-            written = []
-            for j, i in enumerate(part):
-                trace_rows = rows[j].view(np.recarray)
-                n_rec, _ = lay.run_kernel(p_all[i], s_all[i], _noise(scenarios[i], len(lay.SENSORS)), trace_rows, events)
-                written.append(n_rec)
-            if len(set(written)) == 1:
-                n_rec = written[0]
-                channels = {name: rows[name][:, :n_rec] for name in lay.CHANNELS}
-                channels["time_s"] = rows["time_s"][0, :n_rec]
-                chunk_metrics = compute_metrics(Trace(channels), names)
-                per_variant = [{k: float(v[j]) for k, v in chunk_metrics.items()} for j in range(len(part))]
+    def noise_for(run, is_noisy: bool) -> np.ndarray:
+        key = _noise_key(run, bool(is_noisy))
+        arr = noises.get(key)
+        if arr is None:
+            if is_noisy:
+                ticks = int(round(run.duration_s / run.controller_period_s)) + 2
+                arr = np.random.default_rng(run.seed).standard_normal((ticks, n_sens))
+            else:
+                arr = np.zeros((1, n_sens))
+            noises[key] = arr
+        return arr
+
+    def work(blocks_iter) -> None:
+        rows = np.zeros((chunk, rec_max), dtype=lay.TRACE_DTYPE)
+        events = np.zeros((EVENT_BUFFER, EVENT_FIELDS))
+        for lo, hi in blocks_iter:
+            m = hi - lo
+            if vset is None:
+                p, s = p_all, s_all
+                idx = np.arange(lo, hi)
+                part_runs = runs[lo:hi]
+                part_noisy = noisy[lo:hi]
+            else:
+                p, s = vset.records(lo, hi)
+                idx = np.arange(m)
+                part_runs = [base.model.run] * m
+                part_noisy = np.any(np.nan_to_num(np.asarray(s["sensor_noise_std"]).reshape(m, -1)) != 0.0, axis=1)
+            written = np.zeros(chunk, dtype=np.int64)
+            groups: dict[tuple, list[int]] = {}
+            for j in range(m):
+                groups.setdefault(_noise_key(part_runs[j], bool(part_noisy[j])), []).append(j)
+            for key, slots in groups.items():
+                noise = noise_for(part_runs[slots[0]], bool(part_noisy[slots[0]]))
+                if run_chunk is not None:
+                    sl = np.asarray(slots, dtype=np.int64)
+                    run_chunk(p, s, idx[sl], sl, noise, rows, events, written)
+                else:
+                    for j in slots:
+                        written[j], _ = lay.run_kernel(p[idx[j]], s[idx[j]], noise, rows[j].view(np.recarray), events)
+            lengths = written[:m]
+            if np.all(lengths == lengths[0]):
+                n_rec = int(lengths[0])
+                channels = {name: rows[name][:m, :n_rec] for name in lay.CHANNELS if name != "time_s"}
+                chunk_metrics = compute_metrics_fast(channels, rows["time_s"][0, :n_rec], names)
+                keys = list(chunk_metrics)
+                columns = [np.asarray(chunk_metrics[k], dtype=np.float64).tolist() for k in keys]
+                per_variant = [dict(zip(keys, vals)) for vals in zip(*columns)] if keys else [{} for _ in range(m)]
             else:  # runs of different length (e.g. a stop event): one trace each
-                per_variant = [compute_metrics(Trace({name: rows[name][j, :written[j]] for name in lay.CHANNELS}), names)
-                               for j in range(len(part))]
-            for j, i in enumerate(part):
+                chunk_metrics = None
+                per_variant = [compute_metrics(Trace({name: rows[name][j, :lengths[j]] for name in lay.CHANNELS}), names)
+                               for j in range(m)]
+            if same_checks:
+                checks = (base or scenarios[0]).model.checks
+                if chunk_metrics is None:
+                    chunk_metrics = {k: np.array([pv[k] for pv in per_variant]) for k in per_variant[0]} if m else {}
+                ok = _checks_ok(checks, chunk_metrics, m).tolist()
+            else:
+                ok = [all(c.ok for c in evaluate_checks(scenarios[lo + j], per_variant[j])) for j in range(m)]
+            for j in range(m):
+                i = lo + j
                 metrics[i] = per_variant[j]
-                oks[i] = all(c.ok for c in evaluate_checks(scenarios[i], per_variant[j]))
+                oks[i] = bool(ok[j])
                 if keep:
-                    kept[i] = {c: np.array(rows[c][j, :written[j]:keep_every]) for c in ["time_s"] + keep}
+                    kept[i] = {c: np.array(rows[c][j, :lengths[j]:keep_every]) for c in ["time_s"] + keep}
             if progress is not None:
-                progress(len(part))
+                progress(m)
 
-    chunks = [list(range(w, n, workers)) for w in range(workers)]
     if workers == 1:
-        work(chunks[0])
+        work(iter(blocks))
     else:
+        import threading
+
+        lock = threading.Lock()
+        shared = iter(blocks)
+
+        def pull():
+            while True:
+                with lock:
+                    item = next(shared, None)
+                if item is None:
+                    return
+                yield item
+
         with ThreadPoolExecutor(workers) as pool:
-            list(pool.map(work, chunks))
-    return BatchResult(metrics, kept, oks, [tuple(sc.sets) for sc in scenarios])
+            list(pool.map(lambda _: work(pull()), range(workers)))
+    return BatchResult(metrics, kept, oks, overrides)

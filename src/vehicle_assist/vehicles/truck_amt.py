@@ -584,3 +584,21 @@ def controller_states() -> tuple:
 def run_kernel(p, s, noise, trace, events):
     meas, tcu, hsa = controller_states()
     return simulate(p, s, noise, meas, tcu, hsa, trace, events)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def simulate_many(p_all, s_all, idx, slot, noise, meas_all, tcu_all, hsa_all, rows, events, written):
+    """Run variants ``p_all[idx[j]]``, ``s_all[idx[j]]`` into ``rows[slot[j]]`` in one compiled call (no record
+    unboxing per run); ``written[slot[j]]`` gets each run's record count. The state records are fresh per variant."""
+    for j in range(idx.shape[0]):
+        i = idx[j]
+        n_rec, _ = simulate(p_all[i], s_all[i], noise, meas_all[j], tcu_all[j], hsa_all[j], rows[slot[j]], events)
+        written[slot[j]] = n_rec
+
+
+def run_chunk(p_all, s_all, idx, slot, noise, rows, events, written):
+    """Batch interface: the variants ``idx`` of the packed records into trace rows ``slot`` (see simulate_many)."""
+    n = len(idx)
+    meas = np.zeros(n, dtype=MEAS_DTYPE)
+    return simulate_many(p_all, s_all, idx, slot, noise, meas, np.repeat(amt_launch.initial_state(), n),
+                         np.repeat(hill_start_amt.initial_state(), n), rows, events, written)

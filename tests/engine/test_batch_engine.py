@@ -1,0 +1,137 @@
+"""The fast batch path (issue 13) against the reference path it replaces.
+
+References: the numpy metrics of ``metrics/*.py`` (``compute_metrics``) and the single-run path
+(``simulate``: one kernel call, numpy metrics, scenarios built with ``with_sets``). The batch path (compiled
+metric twins, one compiled call per chunk, records written by ``build_variants``) must give the very same bits:
+every comparison here is on ``float.hex`` / raw bytes, not a tolerance.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import vehicle_assist as va
+from vehicle_assist.core.trace import Trace
+from vehicle_assist.metrics import compute_metrics
+from vehicle_assist.metrics.fast import compute_metrics_fast, twins
+from vehicle_assist.scenarios.runner import simulate_batch
+from vehicle_assist.scenarios.variants import build_variants
+
+DATA = Path(va.__file__).parent / "data" / "scenarios"
+LAYOUTS = ("truck_amt", "ev_ehb")
+
+
+def _same(x, y) -> bool:
+    x, y = float(x), float(y)
+    return x.hex() == y.hex() or (x != x and y != y)
+
+
+def _scenarios(layout: str) -> list:
+    out = []
+    for path in sorted(DATA.glob("*.toml")):
+        sc = va.load_scenario(path.stem)
+        if sc.layout == layout:
+            out.append(sc)
+    return out
+
+
+@pytest.mark.parametrize("layout", LAYOUTS)
+def test_batch_equals_single_runs_bit_for_bit(layout):
+    """Every shipped scenario of the layout in one batch: metrics, every kept channel and the checks verdict are
+    those of its own ``simulate`` (reference: the single-run path with numpy metrics)."""
+    scs = _scenarios(layout)
+    singles = [va.simulate(sc, requirements=False) for sc in scs]
+    channels = [c for c in singles[0].trace.channels if c != "time_s"]
+    res = simulate_batch(scs, keep_channels=channels, workers=2)
+    for sc, ref, metrics, kept, ok in zip(scs, singles, res.metrics, res.channels, res.checks_ok):
+        assert list(metrics) == list(ref.metrics), sc.name
+        bad = [k for k in ref.metrics if not _same(ref.metrics[k], metrics[k])]
+        assert not bad, (sc.name, bad)
+        assert all(ref.trace.channels[c].tobytes() == kept[c].tobytes() for c in ["time_s"] + channels), sc.name
+        assert ok == all(c.ok for c in ref.checks), sc.name
+
+
+@pytest.mark.parametrize("layout", LAYOUTS)
+def test_fast_metrics_equal_numpy_metrics(layout):
+    """Compiled twins vs the numpy metrics on (runs, samples) chunks: two variants stacked (a lighter vehicle),
+    all metrics of the trace, identical bits. Each twin must be exercised by at least one layout."""
+    used = set()
+    for sc in _scenarios(layout):
+        a = va.simulate(sc, requirements=False).trace
+        b = va.simulate(sc.with_sets(f"vehicle.body.mass_kg={sc.vehicle.model.body.mass_kg * 0.7}"),
+                        requirements=False).trace
+        if len(b) != len(a):
+            continue
+        ch = {k: np.vstack([a.channels[k], b.channels[k]]) for k in a.channels if k != "time_s"}
+        t = a.channels["time_s"]
+        ref = compute_metrics(Trace({**ch, "time_s": t}))
+        fast = compute_metrics_fast(ch, t, fallback=lambda names: pytest.fail(f"no twin for {names}"))
+        assert list(fast) == list(ref)
+        for k in ref:
+            assert all(_same(x, y) for x, y in zip(ref[k], fast[k])), (sc.name, k, ref[k], fast[k])
+        used |= set(ref)
+    assert used & set(twins())
+
+
+def test_fast_metrics_nan_and_edge_cases():
+    """Hand-made traces that reach the NaN and never-found branches (reference: the numpy metrics)."""
+    rng = np.random.default_rng(3)
+    t = np.arange(300) * 0.01
+    runs = 6
+    ch = {
+        "position_m": np.cumsum(rng.standard_normal((runs, 300)), axis=1),
+        "speed_mps": rng.standard_normal((runs, 300)),
+        "accel_mps2": rng.standard_normal((runs, 300)),
+        "engine_speed_radps": 100 + rng.standard_normal((runs, 300)),
+        "gear_index": np.tile(np.repeat([3.0, 0.0, 2.0, 0.0, 1.0, 0.0], 50), (runs, 1)),
+        "brake_pedal_frac": np.zeros((runs, 300)),
+        "accelerator_frac": np.zeros((runs, 300)),
+        "clutch_slip_power_w": rng.standard_normal((runs, 300)) ** 2,
+        "vehicle_held_flag": (rng.random((runs, 300)) < 0.2).astype(float),
+    }
+    ch["speed_mps"][1, 7] = np.nan
+    ch["engine_speed_radps"][2, 120] = np.nan
+    ch["brake_pedal_frac"][3, 10:40] = 0.5
+    ch["brake_pedal_frac"][4, 10:] = 0.5  # applied, never released: NaN launch time
+    ch["accelerator_frac"][5, 30:] = 0.3
+    ch["clutch_slip_power_w"][5, 3] = np.nan
+    ref = compute_metrics(Trace({**ch, "time_s": t}))
+    fast = compute_metrics_fast(ch, t)
+    for k in ref:
+        assert all(_same(x, y) for x, y in zip(ref[k], fast[k])), (k, ref[k], fast[k])
+
+
+def test_build_variants_equals_with_sets():
+    """Records written by ``build_variants`` give what ``with_sets`` per variant gives (reference), including an
+    axis of the scenario record (road slope) and the overrides listed per variant."""
+    sc = va.load_scenario("truck_11deg_late_release")
+    axes = {"vehicle.body.mass_kg": [13000, 21000.5, 30000], "vehicle.park_brake.reservoir_pressure_bar": [6.5, 8.0],
+            "road.slope_deg": [8, 11.5]}
+    vs = build_variants(sc, axes)
+    assert vs.fast and len(vs) == 12
+    slow = [sc.with_sets(*vs.sets(k)) for k in range(len(vs))]
+    a = simulate_batch(vs, keep_channels=["speed_mps"])
+    b = simulate_batch(slow, keep_channels=["speed_mps"])
+    assert a.overrides == b.overrides
+    assert a.checks_ok == b.checks_ok
+    for x, y, cx, cy in zip(a.metrics, b.metrics, a.channels, b.channels):
+        assert all(_same(x[k], y[k]) for k in y)
+        assert cx["speed_mps"].tobytes() == cy["speed_mps"].tobytes()
+    part = vs[5:9]  # a slice (what a worker gets) runs variants 5..8
+    c = simulate_batch(part)
+    assert c.overrides == a.overrides[5:9]
+    assert all(_same(x[k], y[k]) for x, y in zip(c.metrics, a.metrics[5:9]) for k in y)
+
+
+def test_build_variants_falls_back_when_not_exact():
+    """An axis the records do not hold (run duration changes the record count) is built one by one; same results."""
+    sc = va.load_scenario("hsa_ev_5deg_paper")
+    vs = build_variants(sc, {"run.duration_s": [4.0, 5.0], "vehicle.body.mass_kg": [1500, 1700]})
+    assert not vs.fast
+    a = simulate_batch(vs)
+    b = simulate_batch([sc.with_sets(*vs.sets(k)) for k in range(len(vs))])
+    assert all(_same(x[k], y[k]) for x, y in zip(a.metrics, b.metrics) for k in y)
+    with pytest.raises(Exception):
+        build_variants(sc, {"vehicle.body.mass_kg": ["heavy"]})
