@@ -109,7 +109,7 @@ def test_elevation_grade():
 def test_file_written_by_scenariogeneration(tmp_path):
     """A road written by another tool: our curvature is what was asked of the tool, and the positions we
     integrate from the curvature land on the start poses the tool computed for the next elements."""
-    xodr = pytest.importorskip("scenariogeneration.xodr")
+    from scenariogeneration import xodr  # the dev extra (pyproject): a missing reference fails, never skips
     geoms = [xodr.Line(120), xodr.Spiral(0.0, 1 / 65, length=30), xodr.Arc(1 / 65, length=70),
              xodr.Spiral(1 / 65, -1 / 200, length=40), xodr.Arc(-1 / 200, length=60), xodr.Line(50)]
     road = xodr.create_road(geoms, id=0, left_lanes=1, right_lanes=1)
@@ -195,3 +195,22 @@ def test_unreadable_file_and_road_id(tmp_path):
         read_opendrive(tmp_path / "missing.xodr")
     with pytest.raises(OpenDriveError, match="no <road> with id='9'; roads in the file: 1"):
         read_opendrive(ROADS / "curve_r65.xodr", road_id="9")
+
+
+def test_find_curves_starts_where_the_file_says():
+    """The map's curve list from the shipped roads. Reference: the files' geometry. curve_r65.xodr: a line to 400 m,
+    a 100 m arc (a curvature step: the sampled table keeps the step, the curve starts at 400 m, not one grid
+    step later); proving_ground_loop.xodr: a spiral 0 -> 0.1 1/m over 15 m from 400 m, so |k| passes 1/1000 m at
+    400 + 0.15 m, and the hairpin ends 0.15 m before the second spiral's end at 446.416 m."""
+    from importlib import resources
+
+    roads = Path(str(resources.files("vehicle_assist") / "data" / "roads"))
+    sm = read_opendrive(roads / "curve_r65.xodr").sample(1.0)
+    (c,) = find_curves(sm["s_m"], sm["curvature_per_m"])
+    assert c.start_m == pytest.approx(400.0, abs=1e-5) and c.length_m == pytest.approx(100.0, abs=1e-5)
+    assert c.radius_m == pytest.approx(65.0, rel=1e-6)
+    sm = read_opendrive(roads / "proving_ground_loop.xodr").sample(1.0)
+    c1 = find_curves(sm["s_m"], sm["curvature_per_m"])[0]
+    assert c1.start_m == pytest.approx(400.15, abs=1e-6)
+    assert c1.start_m + c1.length_m == pytest.approx(446.415927 - 0.15, abs=1e-5)
+    assert c1.radius_m == pytest.approx(10.0)

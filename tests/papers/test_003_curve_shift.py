@@ -4,7 +4,8 @@ Every shipped curve scenario's checks hold (each cites its clause); the pairwise
 here across strategy-on / strategy-off twins: gear at curve entry lower or equal with the strategy and strictly
 lower at 80 km/h (criterion 6), the lift-off upshift only without the strategy (criterion 2), the proving-ground
 4->3 earlier than the normal schedule's (P13: ~27 instead of ~24 km/h). Negative control: the normal schedule run
-against the strategy's criterion 1 must fail it.
+against the strategy's criterion 1 must fail it. Known failures (the paper's proving-ground numbers the model does not
+reach, with the reason in each check's why) must keep failing, so that a silent change is noticed.
 """
 from __future__ import annotations
 
@@ -14,19 +15,26 @@ import vehicle_assist as va
 from vehicle_assist.procedures.reproduce import REPRODUCTIONS
 
 CASES = (80, 70, 65, 48)
+KNOWN_FAIL = {("curve_pg", "downshift_4_3_speed_mps"), ("curve_pg", "downshift_3_2_speed_mps"),
+              ("curve_pg_baseline", "downshift_3_2_speed_mps")}
 
 
 @pytest.fixture(scope="module")
 def results():
     names = [f"curve_{k}{v}" for v in CASES for k in ("s", "b")] + [
-        "curve_pg", "curve_pg_baseline", "curve_s80_map_missing", "curve_s80_map_dropout", "curve_s80_map_late",
-        "curve_s80_map_radius_wrong"]
+        "curve_pg", "curve_pg_baseline", "curve_pg_kj0125", "curve_s80_map_missing", "curve_s80_map_dropout",
+        "curve_s80_map_late", "curve_s80_map_radius_wrong", "curve_s80_map_radius_small"]
     return {n: va.simulate(va.load_scenario(n)) for n in names}
 
 
 def test_every_check_holds(results):
-    bad = [(n, c.metric, c.value, c.bound) for n, r in results.items() for c in r.checks if not c.ok]
+    bad = [(n, c.metric, c.value, c.bound) for n, r in results.items() for c in r.checks
+           if not c.ok and (n, c.metric) not in KNOWN_FAIL]
     assert not bad
+    for n, metric in KNOWN_FAIL:
+        c = [c for c in results[n].checks if c.metric == metric][0]
+        assert not c.ok, f"{n}: {metric} now passes; update KNOWN_FAIL and the report"
+        assert c.why.startswith("KNOWN FAIL")
 
 
 def test_entry_gear_lower_or_equal_and_strictly_lower_at_80(results):
@@ -54,10 +62,16 @@ def test_kj_classes_p12(results):
 
 
 def test_proving_ground_downshift_earlier(results):
+    """P13 with kj computed from the a_y of a 53 km/h passage (the paper's words): earlier than the normal schedule,
+    but at the command (kj = kj_max on the R = 10 m hairpin), not at the paper's 27 km/h (a KNOWN FAIL). With the
+    kj = 0.125 the paper's numbers imply (spec criterion 11) the closed loop gives 26.8 +/- 1 km/h (eq. 15)."""
     s = results["curve_pg"].metrics["downshift_4_3_speed_mps"] * 3.6
     b = results["curve_pg_baseline"].metrics["downshift_4_3_speed_mps"] * 3.6
-    assert s > b
-    assert s == pytest.approx(27.0, abs=1.0) and b == pytest.approx(24.0, abs=1.0)  # P13
+    assert s > b and b == pytest.approx(24.0, abs=1.0)  # P13: normal schedule about 24 km/h
+    assert results["curve_pg"].metrics["kj_advance_max_frac"] == 1.0  # a_y_pred = 21.7 m/s^2 > a_ys
+    assert s == pytest.approx(53.0, abs=0.5)  # the downshift comes at the command, not at 27 km/h
+    fixed = results["curve_pg_kj0125"].metrics["downshift_4_3_speed_mps"] * 3.6
+    assert fixed == pytest.approx(23.8 * 1.125, abs=1.0)  # criterion 11
 
 
 def test_downshifts_earlier_with_strategy(results):

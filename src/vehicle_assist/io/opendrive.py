@@ -34,6 +34,7 @@ import numpy as np
 
 MAX_FILE_BYTES = 50_000_000  # a road network of a few hundred km; anything larger is refused
 MAX_GEOMETRIES = 100_000
+BOUNDARY_STEP_M = 1e-6  # a curvature jump at an element boundary is sampled as a step of this width
 PARAM_GRID = 4096  # intervals of the arc-length integration of poly3 / paramPoly3 (even: Simpson)
 GEOMETRY_TYPES = ("line", "arc", "spiral", "poly3", "paramPoly3")
 
@@ -275,9 +276,18 @@ class OpenDriveRoad:
             y_all.append(y)
             h_all.append(hdg)
         s = np.concatenate(s_all)
-        keep = np.concatenate([[True], np.diff(s) > 1e-9])  # drop the repeated element boundaries
+        k_cat = np.concatenate(k_all)
+        # an element boundary appears twice (end of one, start of the next): where the curvature jumps there
+        # (line -> arc) keep both, the end moved back by BOUNDARY_STEP_M, so that the table has the step at the
+        # boundary (the old grid kept only the end value: an arc starting at 400 m read as starting at 401 m);
+        # where it is continuous drop the repeat
+        rep = np.concatenate([[False], np.diff(s) <= 1e-9])
+        jump = rep & (np.abs(k_cat - np.roll(k_cat, 1)) > 1e-12)
+        prev_of_jump = np.roll(jump, -1)
+        s = np.where(prev_of_jump, s - BOUNDARY_STEP_M, s)
+        keep = ~rep | jump
         s = s[keep]
-        return {"s_m": s, "curvature_per_m": np.concatenate(k_all)[keep], "x_m": np.concatenate(x_all)[keep],
+        return {"s_m": s, "curvature_per_m": k_cat[keep], "x_m": np.concatenate(x_all)[keep],
                 "y_m": np.concatenate(y_all)[keep], "heading_rad": np.concatenate(h_all)[keep],
                 "grade_rad": self.grade_at(s)}
 
@@ -404,6 +414,13 @@ class Curve:
     direction: int  # +1 left, -1 right
 
 
+def _crossing(s_out: float, s_in: float, k_out: float, k_in: float, threshold: float) -> float:
+    """Where |k| (linear between a sample outside and one inside the curve) reaches the threshold."""
+    if k_in <= k_out:
+        return s_in
+    return s_out + (threshold - k_out) / (k_in - k_out) * (s_in - s_out)
+
+
 def find_curves(s_m: np.ndarray, curvature_per_m: np.ndarray, max_radius_m: float = 1000.0,
                 min_length_m: float = 5.0) -> list[Curve]:
     """Stretches where the radius is below ``max_radius_m`` (transitions up to that radius included)."""
@@ -420,9 +437,12 @@ def find_curves(s_m: np.ndarray, curvature_per_m: np.ndarray, max_radius_m: floa
         j = i
         while j + 1 < n and inside[j + 1] and np.sign(k[j + 1]) == np.sign(k[i]):
             j += 1
-        length = s[j] - s[i]
+        # the table is read with linear interpolation: the curve begins and ends where |k| crosses the threshold
+        start = s[i] if i == 0 else _crossing(s[i - 1], s[i], abs(k[i - 1]), abs(k[i]), 1.0 / max_radius_m)
+        end = s[j] if j == n - 1 else _crossing(s[j + 1], s[j], abs(k[j + 1]), abs(k[j]), 1.0 / max_radius_m)
+        length = end - start
         if length >= min_length_m:
             kmax = float(np.max(np.abs(k[i:j + 1])))
-            curves.append(Curve(float(s[i]), float(length), 1.0 / kmax, int(np.sign(k[i]))))
+            curves.append(Curve(float(start), float(length), 1.0 / kmax, int(np.sign(k[i]))))
         i = j + 1
     return curves
