@@ -39,13 +39,27 @@ REQUESTS = ("OFF", "HOLD", "DUMP", "BUILD", "GMA_HOLD", "GMA_PULSE")
 # ARBITRATION[hba mode][request] -> wheel valve mode (paper P6-P8, spec 2-3):
 #   no HBA: ABS on the driver's pressure (hold with the circuit open, pulsed build from the master);
 #   HBA active: no ABS request -> active build by the pump; ABS hold isolates the circuit; re-build by the pump;
-#   HBA terminating: ramp-out, except that a dump request (lock threatened) always wins.
+#   HBA terminating, wheel above the driver's pressure: ramp-out, except that a dump request (lock threatened)
+#   always wins; HBA terminating, wheel back at (within 1 bar of) or below the driver's pressure: the wheel's
+#   ramp-out is over (spec 2 row T "then mode N"), it is the driver's again with plain ABS (row T_DONE = INACTIVE).
 ARBITRATION = np.array([
     # OFF   HOLD  DUMP  BUILD  GMA_H  GMA_P
     [W_N, W_H, W_D, W_BPM, W_H, W_BPM],  # INACTIVE
     [W_B, W_HI, W_D, W_BP, W_HI, W_BP],  # ACTIVE
-    [W_T, W_T, W_D, W_T, W_T, W_T],      # TERMINATING
+    [W_T, W_T, W_D, W_T, W_T, W_T],      # TERMINATING (wheel above the driver's pressure)
+    [W_N, W_H, W_D, W_BPM, W_H, W_BPM],  # T_DONE: TERMINATING, this wheel's ramp-out complete
+    [W_N, W_H, W_D, W_BPM, W_H, W_BPM],  # A_DRIVER: ACTIVE, but the driver's pressure is above the wheel's
 ], dtype=np.int64)
+ARBITRATION_ROWS = ("INACTIVE", "ACTIVE", "TERMINATING", "T_DONE", "A_DRIVER")
+T_DONE, A_DRIVER = 3, 4
+CIRCUIT = np.array([0, 1, 1, 0], dtype=np.int64)  # X-split: circuit 1 = fl + rr, circuit 2 = fr + rl
+# A_DRIVER (issue #9 review, "never worse than no assist"): the pump is only the pressure source where it has to
+# lift the wheel above the driver (paper P2/P6: "raises line pressure up to the ABS control level"). Where the
+# driver's own pressure is already above the wheel's by more than the 1 bar settling band (the driver alone reaches
+# the lock limit, or a dump took the wheel below the driver), the circuit stays open to the master cylinder and
+# ABS works on the driver's pressure exactly as without HBA; isolating it and re-building by the pump cost up to
+# 0.2 m of stopping distance (wet, mu 0.75, 200 N in 7 ms from 100 km/h: the two ABS limit cycles drift apart).
+RAMP_SETTLED_PA = 1.0e5  # "|p_w - p_src| < 1 bar" ends a wheel's ramp-out (spec 3 TERMINATING, criterion 7)
 PRIORITY = np.array([0, 2, 3, 1], dtype=np.int64)  # select-low: DUMP > HOLD > BUILD > OFF
 # BLOWOUT_ARBITRATION[compensation request][wheel mode after ABS/HBA] -> wheel mode (paper 004 P7, issue #10):
 #   BUILD (accumulator build for the valve time) and HOLD give way to ABS (hold/dump/pulsed build: lock threat)
@@ -63,8 +77,8 @@ ABS_LOG_CAP = 60  # ABS mode changes logged per wheel (the event buffer is share
 
 # controller state vector (named indices)
 C_V_REF, C_STARTED, C_IMPLAUSIBLE_S, C_SENSOR_LATCH, C_GMA_START, C_GMA_WHEEL, C_T, C_SENSOR_OK, C_ABS_OK, \
-    C_HBA_AVAILABLE = range(10)
-CTL_SIZE = 10
+    C_HBA_AVAILABLE, C_PUMP_LIFTED_C1, C_PUMP_LIFTED_C2 = range(12)
+CTL_SIZE = 12
 # per-wheel state (rows fl, fr, rl, rr)
 A_MODE, A_BUILD_S, A_VW_PREV, A_SINCE_HD_S, A_LOGGED, A_SLIP, A_DECEL, A_REQUEST, A_WHEEL_MODE, A_P_EST = range(10)
 WHEEL_STATE_SIZE = 10
@@ -93,10 +107,10 @@ def _estimate(mode, p_est, p_src, dt, p):
                            p.esp_unit_pulse_duty_frac * p.esp_unit_pump_build_rate_pa_per_s * dt)
     if mode == W_D:
         return p.esp_unit_lpa_pressure_pa + (p_est - p.esp_unit_lpa_pressure_pa) * math.exp(-dt / p.esp_unit_dump_time_constant_s)
-    if mode == W_T:
+    if mode == W_T:  # inlet closed: the wheel only falls toward the driver's pressure, never rises
         if p_est > p_src:
             return max(p_est - p.esp_unit_exit_rate_pa_per_s * dt, p_src)
-        return p_src
+        return p_est
     return p_est  # holds
 
 
@@ -146,7 +160,12 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     ctl[C_HBA_AVAILABLE] = 1.0 if (abs_ok and pump_ok and sensor_ok and p.brake_assist_enabled_flag > 0.5) else 0.0
 
     # ABS per wheel
-    abs_allowed = abs_ok and bls and v_ref > p.esp_abs_min_speed_mps
+    # ABS cut-off (spec 4.3: ABS disabled below 5 km/h of *vehicle* speed). The ECU only has v_ref, which while ABS
+    # regulates can be low by the slip of the fastest wheel; a wheel beyond the dump slip L_DUMP is dumped, so
+    # v_ref >= (1 - L_DUMP)*v. Releasing only once v_ref <= (1 - L_DUMP)*V_min guarantees v <= V_min when the
+    # wheels go back to the driver (a release at v_ref = V_min locked wheels at up to 5.2 km/h: issue #9 review).
+    v_cut = p.esp_abs_min_speed_mps * (1.0 - p.esp_abs_dump_slip_frac)
+    abs_allowed = abs_ok and bls and v_ref > v_cut
     comp_wheel = int(bst[bc.S_TARGET]) if int(bst[bc.S_MODE]) != bc.IDLE else -1  # blowout compensation brakes it
     for i in range(4):
         vw = vw0 if i == 0 else vw1 if i == 1 else vw2 if i == 2 else vw3
@@ -159,7 +178,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         # ABS also guards the wheel the blowout compensation brakes without the driver (slip control, issue #10)
         # (engaged only once lock threatens: slip above the dump threshold; the Dugoff tire has no force peak,
         # so holding at the 10 % threshold would cut force the compensation needs)
-        allowed_i = abs_allowed or (abs_ok and i == comp_wheel and v_ref > p.esp_abs_min_speed_mps
+        allowed_i = abs_allowed or (abs_ok and i == comp_wheel and v_ref > v_cut
                                     and (slip > p.esp_abs_dump_slip_frac or int(wheels[i, A_MODE]) != abs_fn.OFF))
         new, reason = abs_fn.abs_step(mode, wheels[i, A_BUILD_S], slip, a_w, allowed_i, p.esp_abs_dump_slip_frac,
                                       p.esp_abs_hold_slip_frac, p.esp_abs_dump_decel_mps2, p.esp_abs_rebuild_decel_mps2,
@@ -206,6 +225,11 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         elif elapsed < p.esp_gma_duration_s and int(wheels[g, A_MODE]) == abs_fn.OFF:
             phase = elapsed - p.esp_gma_cycle_s * math.floor(elapsed / p.esp_gma_cycle_s)
             wheels[g, A_REQUEST] = R_GMA_PULSE if phase < p.esp_gma_pulse_s - 1e-9 else R_GMA_HOLD
+        elif int(wheels[g, A_MODE]) == abs_fn.OFF:
+            # after the delay (or a yaw hold) the held wheel re-builds in pulses like any ABS re-build, never by a
+            # step to the driver's pressure: a 36 -> 179 bar step stopped the high-mu wheel within two controller
+            # periods at 10 km/h (split-mu, 300 N: wheel at 0 rad/s with the car above 5 km/h, criterion 5)
+            wheels[g, A_REQUEST] = R_GMA_PULSE
 
     # HBA
     hba_mode = hba.INACTIVE
@@ -213,7 +237,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         ramp_done = True
         for i in range(4):
             src = p_mc if i < 2 else _prop(p_mc, p)
-            if abs(wheels[i, A_P_EST] - src) >= 1.0e5:
+            if wheels[i, A_P_EST] - src >= RAMP_SETTLED_PA:  # a wheel still above the driver's pressure
                 ramp_done = False
         old = int(hst[hba.S_MODE])
         new, reason = hba.hba_step(hst, p_mc, v_ref, bls, sensor_ok, abs_ok and pump_ok, ramp_done, dt, p, hba_guards)
@@ -229,8 +253,26 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                                meas.yaw_rate_radps, tpms, inlet_ok, p_est, p, dt, t, m_blow, events, n_events, blow_req)
 
     # arbitration and the ECU's pressure estimate
+    front_driver = np.zeros(2, dtype=np.bool_)  # per circuit: its front wheel is on the driver's pressure (A_DRIVER)
     for i in range(4):
-        wm = ARBITRATION[hba_mode, int(wheels[i, A_REQUEST])] if abs_ok else W_N
+        row = hba_mode
+        src_i = p_mc if i < 2 else _prop(p_mc, p)
+        c = CIRCUIT[i]
+        if i < 2:  # latch per circuit: the pump has lifted its front wheel above the driver during this assist
+            if hba_mode != hba.ACTIVE:
+                ctl[C_PUMP_LIFTED_C1 + c] = 0.0
+            elif wheels[i, A_P_EST] - src_i > RAMP_SETTLED_PA:
+                ctl[C_PUMP_LIFTED_C1 + c] = 1.0
+        if hba_mode == hba.TERMINATING and wheels[i, A_P_EST] - src_i < RAMP_SETTLED_PA:
+            row = T_DONE
+        elif hba_mode == hba.ACTIVE and ctl[C_PUMP_LIFTED_C1 + c] < 0.5 and (
+                src_i - wheels[i, A_P_EST] > RAMP_SETTLED_PA or (i >= 2 and front_driver[c])):
+            # as long as the pump has not had to lift the circuit's front wheel above the driver, the driver alone
+            # reaches its ABS level: the circuit (one switching valve, so its rear wheel too) stays on the driver
+            row = A_DRIVER
+        if i < 2:
+            front_driver[c] = row == A_DRIVER
+        wm = ARBITRATION[row, int(wheels[i, A_REQUEST])] if abs_ok else W_N
         if abs_ok and blow_req[i] != bc.Q_NONE:
             wm = BLOWOUT_ARBITRATION[blow_req[i], wm]
             src_i = p_mc if i < 2 else _prop(p_mc, p)

@@ -8,7 +8,7 @@ P12). Each metric works on one run or on a batch (rows), computed row by row; Na
 * ``hba_activation_time_s``: first ACTIVE sample - t0; ``hba_detection_delay_s``: first ACTIVE sample - the
   first sample with the sensed p_mc >= 30 bar, its rate >= 3500 bar/s and v >= 15 km/h (criterion 1).
 * ``driver_pressure_deficit_pa``: largest p_src - p_w of a wheel whose valves have let the driver's
-  pressure through (modes N, B, T) for at least 0.1 s (5 line time constants), from t0 + 0.1 s on.
+  pressure through (modes N, B; T has the inlet closed) for at least 0.1 s (5 line time constants), from t0 + 0.1 s on.
 * ``stopping_distance_m`` / ``stopping_time_s``: from t0 to standstill (NaN if the car did not stop).
 * ``mfdd_mps2``: mean fully developed deceleration (v_b^2 - v_e^2)/(2*(s_e - s_b)) between 0.8 v0 and
   0.1 v0, v0 the speed at t0 (UN R13-H Annex 3 definition, std).
@@ -26,12 +26,16 @@ P12). Each metric works on one run or on a batch (rows), computed row by row; Na
 * ``hba_exit_flag``: ACTIVE -> TERMINATING happened; ``rampout_settle_margin_s``: criterion 7's bound
   (p_w0 - p_src)/G_exit + 0.1 s (p_w0 the wheel pressure at the exit, p_src the driver's pressure where the
   ramp ends - the driver may still be releasing at the exit -, G_exit = 200 bar/s of
-  brake_assist.md 6) minus the time from the exit until every wheel is within 1 bar of its driver's
-  pressure or back in the normal valve mode (>= 0 meets criterion 7);
+  brake_assist.md 6) minus the time from the exit until no wheel is more than 1 bar above its driver's
+  pressure or every wheel is back in the normal valve mode (>= 0 meets criterion 7);
   ``rampout_undershoot_pa``: max (p_src - p_w) during TERMINATING (criterion 7: <= 2 bar).
 * ``hba_build_time_s``, ``hba_abs_time_s``, ``hba_rampout_time_s``: time per HBA phase (active build with
   no ABS hold/dump, ABS intervention, ramp-out).
-* ``heading_max_deg``, ``yaw_rate_max_radps``, ``lateral_deviation_max_m``: split-mu stability.
+* ``heading_max_deg``, ``yaw_rate_max_radps``, ``lateral_deviation_max_m``: split-mu stability;
+  ``steering_correction_2s_deg`` / ``steering_correction_max_deg``: largest steering-wheel angle change from
+  its value at t0 within the first 2 s / over the stop (UN R13-H split-surface ABS test: 120 deg / 240 deg).
+* ``wheel_lock_speed_max_mps``: highest car speed at which a wheel reads stopped (< 0.1 rad/s): criterion 5
+  and the ABS cut-off of spec 4.3 (5 km/h) say it must not exceed 5 km/h.
 """
 from __future__ import annotations
 
@@ -106,7 +110,7 @@ def _deficit(t, force, *rest):
     settle = int(round(0.1 / dt))
     for i in range(4):
         pw, ps, wm = rest[3 * i], rest[3 * i + 1], rest[3 * i + 2]
-        through = (wm == 0.0) | (wm == 1.0) | (wm == 7.0)
+        through = (wm == 0.0) | (wm == 1.0)  # N, B (T has the inlet closed: valve table row T)
         run = np.zeros(len(t), dtype=int)
         count = 0
         for k in range(len(t)):
@@ -198,6 +202,28 @@ def _abs_intervened(t, *modes):
     return float(any(np.any((m == 1.0) | (m == 2.0)) for m in modes))
 
 
+def _steer_correction(window_s):
+    """Largest |steering-wheel angle - its value at t0| from t0 over ``window_s`` (all of the run if None), deg."""
+    def fn(t, force, sw):
+        k0 = _t0_index(force)
+        if k0 < 0:
+            return math.nan
+        mask = t >= t[k0]
+        if window_s is not None:
+            mask &= t <= t[k0] + window_s + 1e-9
+        return float(np.degrees(np.max(np.abs(sw[mask] - sw[k0]))))
+    return fn
+
+
+def _lock_speed(t, speed, *omegas):
+    """Highest car speed at a sample where a wheel reads stopped (< 0.1 rad/s, as the STL requirement), 0 if none."""
+    mask = np.zeros(len(speed), dtype=bool)
+    for w in omegas:
+        mask |= w < 0.1
+    mask &= speed > 0.05
+    return float(np.max(speed[mask])) if mask.any() else 0.0
+
+
 G_EXIT_PA_PER_S = 200e5  # G_exit (brake_assist.md 6), the bound of criterion 7
 
 
@@ -210,7 +236,9 @@ def _settle_margin(t, mode, *rest):
     ok = np.ones(len(t), dtype=bool)
     normal = np.ones(len(t), dtype=bool)
     for i in range(4):
-        ok &= np.abs(pairs[2 * i] - pairs[2 * i + 1]) < 1e5
+        # a wheel's ramp-out is over once it is within 1 bar of its driver's pressure or below it (a wheel that
+        # ABS holds below the driver is plain ABS's business, the ramp-out only lowers wheels above the driver)
+        ok &= pairs[2 * i] - pairs[2 * i + 1] < 1e5
         normal &= wmodes[i] == 0.0
     done = np.flatnonzero((ok | normal) & (np.arange(len(t)) >= k0))
     if not done.size:
@@ -293,6 +321,12 @@ _DEFS = [
     ("heading_max_deg", lambda t, h: float(np.degrees(np.max(np.abs(h)))), ("heading_rad",), "largest |heading|"),
     ("yaw_rate_max_radps", lambda t, r: float(np.max(np.abs(r))), ("yaw_rate_radps",), "largest |yaw rate|"),
     ("lateral_deviation_max_m", lambda t, y: float(np.max(np.abs(y))), ("y_m",), "largest |lateral offset|"),
+    ("steering_correction_2s_deg", _steer_correction(2.0), ("pedal_force_n", "steering_wheel_angle_rad"),
+     "largest steering-wheel correction in the first 2 s from t0 (R13-H split-surface ABS test)"),
+    ("steering_correction_max_deg", _steer_correction(None), ("pedal_force_n", "steering_wheel_angle_rad"),
+     "largest steering-wheel correction from t0 on (R13-H split-surface ABS test)"),
+    ("wheel_lock_speed_max_mps", _lock_speed, ("speed_mps",) + tuple(f"wheel_speed_{w}_radps" for w in W),
+     "highest car speed with a wheel stopped (< 0.1 rad/s); criterion 5 / ABS cut-off: <= 5 km/h"),
 ]
 for _name, _fn, _names, _doc in _DEFS:
     register(Metric(_name, _per_row(_fn, _names), _names, _doc))

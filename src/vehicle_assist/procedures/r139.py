@@ -33,7 +33,7 @@ CORRIDOR = (0.5, 0.7)  # F_ABS,lower/upper over F_ABS: paper eqs. 2-3, confirmed
 FACTOR_REGULATION = 0.85  # [recollection, not confirmed] brake_assist.md 5.4
 FACTOR_PAPER = 0.70  # paper 002 P12
 REFERENCE_RAMP_N_PER_S = 80.0  # assumed (brake_assist.md 5.3: not confirmed)
-FULL_SCALE_N = 1000.0  # pedal.full_scale_force_n of sedan_1p8t
+REFERENCE_MAX_FORCE_N = 400.0  # end of the reference ramp (well beyond F_ABS ~170 N, brake_assist.md 6)
 
 
 @dataclass
@@ -57,6 +57,20 @@ def _load(sets: list[str]):
     return load_scenario(BASE_SCENARIO, sets)
 
 
+def pedal_full_scale_n(extra_sets=()) -> float:
+    """Pedal force of a scripted pedal fraction 1.0: ``pedal.full_scale_force_n`` of the test vehicle (with its
+    overrides; source string in the vehicle file), so the programmes' forces in N reach the car unchanged."""
+    return float(_load(list(extra_sets)).vehicle.flat()["pedal_full_scale_force_n"])
+
+
+def _check_scale(forces, full_scale_n: float, what: str) -> None:
+    from vehicle_assist.scenarios.errors import InputError
+
+    if max(forces) > full_scale_n + 1e-9:
+        raise InputError(f"r139 {what}: pedal force {max(forces):.0f} N exceeds pedal.full_scale_force_n = "
+                         f"{full_scale_n:.0f} N of the vehicle (the scripted pedal would be clipped)")
+
+
 def _full_cycling_index(tr) -> int:
     active = np.zeros(len(tr["time_s"]), dtype=bool)
     for w in ("fl", "fr"):
@@ -76,10 +90,12 @@ def reference_test(extra_sets: list[str] = ()) -> tuple[list[float], list[float]
     from vehicle_assist.scenarios.runner import simulate
 
     f_runs, a_runs = [], []
+    full = pedal_full_scale_n(extra_sets)
     for v in REFERENCE_SPEEDS_KPH:
-        times, forces = r139_reference(REFERENCE_RAMP_N_PER_S, 400.0)
+        times, forces = r139_reference(REFERENCE_RAMP_N_PER_S, REFERENCE_MAX_FORCE_N)
+        _check_scale(forces, full, "reference test")
         sets = [f"run.initial_speed_kph={v}", "run.duration_s=12", "vehicle.brake_assist.enabled_flag=0",
-                *as_sets(times, forces, FULL_SCALE_N), *extra_sets]
+                *as_sets(times, forces, full), *extra_sets]
         tr = simulate(_load(sets)).trace
         k = _full_cycling_index(tr)
         if k < 0:
@@ -95,8 +111,10 @@ def category_b_test(f_abs_n: float, hba_on: bool, extra_sets: list[str] = ()) ->
     from vehicle_assist.scenarios.runner import simulate
 
     times, forces = r139_category_b(f_abs_n)
+    full = pedal_full_scale_n(extra_sets)
+    _check_scale(forces, full, "category B test")
     sets = ["run.initial_speed_kph=100", "run.duration_s=8", f"vehicle.brake_assist.enabled_flag={int(hba_on)}",
-            *as_sets(times, forces, FULL_SCALE_N), *extra_sets]
+            *as_sets(times, forces, full), *extra_sets]
     r = simulate(_load(sets))
     tr = r.trace
     t, force, speed = tr["time_s"], tr["pedal_force_n"], tr["speed_mps"]

@@ -90,6 +90,7 @@ _CH = {
     "pedal_force_n": "driver's pedal force",
     "brake_pedal_frac": "scripted pedal fraction (x pedal.full_scale_force_n = force)",
     "steering_angle_rad": "front wheel steer angle",
+    "steering_wheel_angle_rad": "steering-wheel angle = front wheel steer angle x lane_keeper.steering_ratio",
     "booster_force_n": "booster output force on the master-cylinder piston",
     "master_pressure_pa": "master-cylinder pressure p_mc (both chambers)",
     "master_pressure_meas_pa": "p_mc as the ESP's pressure sensor reports it",
@@ -396,6 +397,7 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
             row.pedal_force_n = f_pedal
             row.brake_pedal_frac = inputs[IN_BRAKE_PEDAL]
             row.steering_angle_rad = delta
+            row.steering_wheel_angle_rad = delta * p.lane_keeper_steering_ratio
             row.booster_force_n = f_boost
             row.master_pressure_pa = p_mc
             row.master_pressure_meas_pa = meas.master_pressure_pa

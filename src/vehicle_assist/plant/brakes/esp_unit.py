@@ -15,7 +15,8 @@ Wheel pressure (simplified model of spec 2; p_src = p_mc front, p_prop(p_mc) rea
          cylinder; assumed: the inlet pulses give the same mean gradient as the pump's BP)
     H, HI: dp/dt = 0           (HI: hold with the circuit isolated, during HBA)
     D  : dp/dt = -(p - p_LPA)/tau_dump
-    T  : dp/dt = -min(G_exit, (p - p_src)/tau_line) while p > p_src + 1 bar; then as N
+    T  : dp/dt = -min(G_exit, (p - p_src)/tau_line) while p > p_src, else 0 (inlet closed: no inflow; row T)
+         - the ECU hands a wheel back to N once it is within 1 bar of p_src (spec 2 row T: 'then mode N')
 
 USV check valve: with the inlet fully open (B) a driver pressure above the wheel's still flows in, so a
 dead pump never leaves the wheel below the driver's pressure (in BP the pulsed inlet is the bottleneck:
@@ -89,7 +90,9 @@ def wheel_pressure_step(mode, p, p_src, dt, tau_line_s, source_rate, limit_pa, d
         return p
     if mode == D:
         return p_lpa + (p - p_lpa) * max(1.0 - dt / tau_dump_s, 0.0)
-    # T: ramp out toward the driver's pressure, then follow it
-    if p > p_src + SETTLED_PA:
+    # T (row T: inlet closed, outlet open): the wheel can only lose fluid into the LPA, at the ramp-out gradient,
+    # down to the driver's pressure; with the inlet closed nothing flows in, so a wheel at or below the driver's
+    # pressure holds (the ECU then hands it back to mode N, functions/esp.py ARBITRATION row T_DONE)
+    if p > p_src:
         return p - min(exit_rate_pa_per_s * dt, (p - p_src) * min(dt / tau_line_s, 1.0))
-    return follow
+    return p
