@@ -31,3 +31,34 @@ def test_reaction_delay_and_rate_limit():
         if k < 500:
             assert delta == 0.0
     assert delta == pytest.approx(-min(0.01, 0.5 * dt * 100), rel=1e-6)
+
+
+def test_curve_feedforward_closed_form():
+    """Single-track steady state (textbook): delta = l/R + K*u^2/R with K = m/l*(l_r/C_f - l_f/C_r); straight: 0.
+    BJ2500 numbers (tire_blowout.md 7): m 1700 kg, l_f 1.159 m, l_r 1.417 m, C_f 2*50 kN/rad, C_r 2*55 kN/rad."""
+    k = lk.understeer_gradient(1700.0, 1.159, 1.417, 1.0e5, 1.1e5)
+    assert k == pytest.approx(1700.0 / 2.576 * (1.417 / 1.0e5 - 1.159 / 1.1e5), rel=1e-12)
+    assert lk.curve_steer_rad(0.0, 30.0, 2.576, k) == 0.0
+    assert lk.curve_steer_rad(500.0, 0.0, 2.576, k) == pytest.approx(2.576 / 500.0)
+
+
+def test_preview_gains_scale_with_speed():
+    """Preview law k_y = 2l/(u T_p)^2, k_psi = 2l/(u T_p): doubling the speed quarters k_y and halves k_psi."""
+    u0 = lk.GAIN_REFERENCE_SPEED_MPS
+    ky, kp = lk.preview_gains(0.0185, 0.31, 2.0 * u0)
+    assert ky == pytest.approx(0.0185 / 4.0) and kp == pytest.approx(0.31 / 2.0)
+
+
+def test_curve_without_blowout_stays_on_the_lane():
+    """No blowout, 120 km/h on a 650 m left curve: the run starts in steady cornering and the lane-following
+    driver keeps the car within 5 cm of the lane's circle (reference: the circle's geometry)."""
+    import numpy as np
+
+    import vehicle_assist as va
+
+    sc = va.load_scenario("blowout_lf_60kph_off", sets=["vehicle.blowout.wheel_index=-1", "run.initial_speed_kph=120",
+                                                        "vehicle.lane_keeper.lane_radius_m=650",
+                                                        'vehicle.lane_keeper.steering_mode="follow"'])
+    r = va.simulate(sc)
+    assert np.max(np.abs(np.asarray(r.trace["lane_offset_m"]))) < 0.05
+    assert float(np.asarray(r.trace["yaw_rate_radps"])[0]) == pytest.approx(120 / 3.6 / 650, rel=1e-9)

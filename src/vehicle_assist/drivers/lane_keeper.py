@@ -10,6 +10,15 @@
   e_y = lateral offset of the CG from the lane centre (left +), e_psi = heading minus the lane heading; the
   change of delta is limited to the driver's steering-wheel rate / steering ratio. The lane is a straight
   line (y = 0) or a circle of radius R (left turn, starting tangent to +x at the origin).
+* Curves (both modes): the driver adds the circle's steady-state angle delta_ff = l/R + K*u^2/R (single-track
+  steady state, K the linear understeer gradient from the vehicle's axle stiffnesses) to the scripted angle:
+  ``fixed`` holds it for the entry speed (the wheel held at the curve's angle), ``follow`` at the present speed.
+* Gains (vehicle file): a single-point preview driver that steers onto the constant-curvature arc closing the
+  lateral error at the preview time T_p, y(T_p) = e_y + u*T_p*e_psi + c*(u*T_p)^2/2 = 0, delta = l*c, gives
+  k_y = 2*l/(u*T_p)^2 and k_psi = 2*l/(u*T_p) (optimal-curvature preview model class, Guo Konghui; MacAdam,
+  IEEE SMC-11(6) 1981). The vehicle file gives them at the paper's 60 km/h (``GAIN_REFERENCE_SPEED_MPS``);
+  ``preview_gains`` scales them with the speed as the law does (k_y ~ 1/u^2, k_psi ~ 1/u), so the driver does
+  not over-steer at 120 km/h (fixed 60 km/h gains made a rear blowout at 120 km/h diverge).
   Structure: compensatory (feedback) driver with a dead time, McRuer-Krendel crossover model class
   (McRuer & Krendel 1974, NATO AGARDograph 188; cite, not read here). Numbers in the vehicle file are
   assumed (sources there).
@@ -42,6 +51,31 @@ def lane_errors(gx, gy, psi, lane_radius_m):
     lane_heading = math.atan2(dy, dx) + 0.5 * math.pi
     e = psi - lane_heading
     return e_y, math.atan2(math.sin(e), math.cos(e))
+
+
+GAIN_REFERENCE_SPEED_MPS = 60.0 / 3.6  # paper 004 test speed: the vehicle file's gains are the preview law's there
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def preview_gains(k_y_ref, k_psi_ref, speed_mps):
+    """(k_y, k_psi) at ``speed_mps`` from the gains at GAIN_REFERENCE_SPEED_MPS (k_y ~ 1/u^2, k_psi ~ 1/u)."""
+    q = GAIN_REFERENCE_SPEED_MPS / max(speed_mps, 5.0)
+    return k_y_ref * q * q, k_psi_ref * q
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def understeer_gradient(mass_kg, l_f_m, l_r_m, c_front_axle_n_per_rad, c_rear_axle_n_per_rad):
+    """Linear single-track understeer gradient K [rad per m/s^2] = m/l*(l_r/C_f - l_f/C_r) (axle stiffnesses)."""
+    return mass_kg / (l_f_m + l_r_m) * (l_r_m / c_front_axle_n_per_rad - l_f_m / c_rear_axle_n_per_rad)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def curve_steer_rad(lane_radius_m, speed_mps, wheelbase_m, understeer_rad_per_mps2):
+    """Steady-state road-wheel angle of the lane's circle, delta = l/R + K*u^2/R (single-track steady state;
+    0 on a straight lane): the driver's feed-forward for a curve."""
+    if lane_radius_m <= 0.0:
+        return 0.0
+    return wheelbase_m / lane_radius_m + understeer_rad_per_mps2 * speed_mps * speed_mps / lane_radius_m
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")

@@ -407,10 +407,15 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate, tpms_wheel, inlet_ok, p_
             requests[tg] = Q_BUILD if st[S_ELAPSED] < st[S_T_VALVE] else Q_HOLD
         elif mode == HOLD:
             requests[tg] = Q_HOLD
+            toward = toward_blown_side(b, yaw_rate)
             if p.blowout_compensation_closed_loop_flag > 0.5:
-                toward = toward_blown_side(b, yaw_rate)
                 if toward > p.blowout_compensation_yaw_deadband_radps:
                     requests[tg] = Q_PULSE
                 elif toward < -p.blowout_compensation_yaw_deadband_radps:
                     requests[tg] = Q_RELEASE
+            elif toward < -p.blowout_compensation_abort_yaw_rate_radps:
+                # over-compensation limiter (feed-forward mode): while the car yaws away from the blown side
+                # faster than abort_yaw_rate the compensating wheel is dumped, then held where it is (it is not
+                # re-built: no closed loop); a trusted detection is not released (falsification findings)
+                requests[tg] = Q_RELEASE
     return n_events

@@ -86,6 +86,13 @@ def _dev_max(t, phi, mode, e):
     return float(np.max(np.abs(e[w] - _at(t, e, tb)))) if np.any(w) else 0.0
 
 
+def _dev_run(t, phi, mode, e):
+    """Largest |lane offset change since t_b| over the rest of the run (never worse anywhere, not only in 3 s)."""
+    tb = blowout_time_s(t, phi, mode)
+    w = t >= tb - 1e-9
+    return float(np.max(np.abs(e[w] - _at(t, e, tb)))) if np.any(w) else 0.0
+
+
 def _departure(t, phi, mode, e):
     return float(_dev_max(t, phi, mode, e) > LANE_MARGIN_M)
 
@@ -183,6 +190,8 @@ _DEFS = [
     ("blowout_yaw_rate_rms_radps", _yaw_rms, _BASE + ("yaw_rate_radps",), "RMS of yaw rate - r(t_b) in [t_b, t_b + 2 s]"),
     ("blowout_lateral_deviation_3s_m", _dev_3s, _BASE + ("lane_offset_m",), "|lane offset change| at t_b + 3 s"),
     ("blowout_lateral_deviation_max_m", _dev_max, _BASE + ("lane_offset_m",), "max |lane offset change| in [t_b, t_b + 3 s]"),
+    ("blowout_lateral_deviation_run_max_m", _dev_run, _BASE + ("lane_offset_m",),
+     "max |lane offset change| from t_b to the end of the run"),
     ("blowout_heading_error_3s_rad", _dev_3s, _BASE + ("lane_heading_error_rad",), "|heading error change| at t_b + 3 s"),
     ("blowout_lane_departure_flag", _departure, _BASE + ("lane_offset_m",),
      "1 if the offset exceeds (3.75 m lane - 1.794 m car)/2 within 3 s"),

@@ -176,6 +176,7 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
     k_sr = bo.series_rate_npm(p.blowout_suspension_rate_rear_n_per_m, p.blowout_tire_vertical_rate_n_per_m)
     follow = int(p.lane_keeper_steering_mode) == lk.FOLLOW
     lk_delay = int(round(p.lane_keeper_reaction_delay_s / dt))
+    k_us = lk.understeer_gradient(m, l_f, l_r, 2.0 * c_y[0], 2.0 * c_y[2])
     rw = np.full(4, r_w)
     b_open_s = np.zeros(4)
     inlet_ok = np.ones(4)
@@ -213,6 +214,11 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
     dist = s.initial_position_m
     a_x = 0.0
     a_y = 0.0
+    if p.lane_keeper_lane_radius_m > 0.0:  # start in steady cornering on the lane's circle (linear single track)
+        r = u / p.lane_keeper_lane_radius_m
+        v = u * (l_r - m * l_f * u * u / ((l_f + l_r) * 2.0 * c_y[2])) / p.lane_keeper_lane_radius_m
+        a_y = u * r
+        psi = -math.atan2(v, u)  # the velocity, not the body axis, is tangent to the lane (side-slip)
     omega = np.full(4, u / r_w)
     pw = np.zeros(4)
     driver_inputs(s, 0.0, override_on, override_value, inputs)
@@ -258,12 +264,16 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
         driver_inputs(s, t, override_on, override_value, inputs)  # every step: panic pedals rise in ~10 ms
         f_pedal = max(inputs[IN_BRAKE_PEDAL], 0.0) * p.pedal_full_scale_force_n
         e_y, e_psi = lk.lane_errors(gx, gy, psi, p.lane_keeper_lane_radius_m)
+        # curve feed-forward of the driver (drivers/lane_keeper.py): held for the entry speed, or at the present one
+        d_ff = lk.curve_steer_rad(p.lane_keeper_lane_radius_m, u if follow else s.initial_speed_mps, l_f + l_r, k_us)
         if follow:
-            delta = lk.lane_keeper_step(lkbuf, k, lk_delay, e_y, e_psi, inputs[IN_STEERING], delta if k > 0 else inputs[IN_STEERING],
-                                        p.lane_keeper_lateral_gain_rad_per_m, p.lane_keeper_heading_gain_frac,
+            k_lat, k_head = lk.preview_gains(p.lane_keeper_lateral_gain_rad_per_m, p.lane_keeper_heading_gain_frac, u)
+            # the driver sees the course (velocity direction), not the body axis: e_psi + side-slip angle
+            delta = lk.lane_keeper_step(lkbuf, k, lk_delay, e_y, e_psi + math.atan2(v, max(u, 0.1)), inputs[IN_STEERING] + d_ff, delta if k > 0 else inputs[IN_STEERING] + d_ff,
+                                        k_lat, k_head,
                                         p.lane_keeper_max_steer_rate_radps / p.lane_keeper_steering_ratio, dt)
         else:
-            delta = inputs[IN_STEERING]
+            delta = inputs[IN_STEERING] + d_ff
         # blowout event (time or position) and deflation
         if blown >= 0 and t_blow > 1e17:
             if (p.blowout_position_m >= 0.0 and dist >= p.blowout_position_m) or (p.blowout_position_m < 0.0 and t >= p.blowout_time_s):
