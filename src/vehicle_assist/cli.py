@@ -97,6 +97,8 @@ def _external(name: str, value: float) -> str:
 
     if not isinstance(value, float) or not math.isfinite(value):
         return ""
+    if name.endswith("_radps") and ("yaw" in name or "steer" in name):  # body/steering rates: deg/s, not rpm
+        return f"{math.degrees(value):.2f} deg/s"
     if name.endswith("_radps"):
         return f"{value / RPM_TO_RADPS:.0f} rpm"
     if name.endswith("_mps"):
@@ -192,7 +194,7 @@ def _bound_display(metric: str, c) -> str:
     for op, value in ((">=", c.min), ("<=", c.max)):
         if value is not None:
             shown, unit = display(metric, float(value))
-            parts.append(f"{op} {shown:.4g} {unit}" if unit in ("rpm", "km/h", "bar") else "")
+            parts.append(f"{op} {shown:.4g} {unit}" if unit in ("rpm", "deg/s", "km/h", "bar") else "")
     extra = " and ".join(p for p in parts if p)
     return f"{c.bound} ({extra})" if extra else c.bound
 

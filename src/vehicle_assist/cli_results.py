@@ -90,7 +90,7 @@ def register(app: typer.Typer) -> None:
             cells = [base._fmt(values[0])]
             for v, d in zip(values[1:], deltas[1:]):
                 shown, unit = display(name, d)
-                extra = f" ({shown:+.3g} {unit})" if unit in ("rpm", "km/h", "bar") and d else ""
+                extra = f" ({shown:+.3g} {unit})" if unit in ("rpm", "deg/s", "km/h", "bar") and d else ""
                 cells.append(f"{base._fmt(v)} [{'+' if d >= 0 else ''}{base._fmt(d)}]{extra}")
             table.add_row(name, *cells)
         base.console.print(table)

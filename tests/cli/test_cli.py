@@ -244,3 +244,13 @@ def test_sweep_writes_rows_resumes_and_refuses_a_different_grid(tmp_path):
               "--set", "run.duration_s=3", "--chunk", "1", "--out", out, cwd=tmp_path)
     assert_clean_input_error(res, str(out), "different sweep")
     assert_frame_equal(pq.read_table(out / "sweep.parquet").to_pandas(), first)  # NaN == NaN here
+
+
+def test_yaw_rates_shown_in_deg_per_s_not_rpm():
+    """Issue #10 review: a yaw rate of 0.1 rad/s is 5.73 deg/s (1 rad = 180/pi deg); engine speeds stay in rpm."""
+    from vehicle_assist.cli import _external
+    from vehicle_assist.report.compare import display
+
+    assert _external("blowout_yaw_rate_peak_radps", 0.1) == "5.73 deg/s"
+    assert display("yaw_rate_radps", 0.1) == (pytest.approx(5.7295779513), "deg/s")
+    assert _external("engine_speed_peak_radps", 188.6).endswith("rpm")

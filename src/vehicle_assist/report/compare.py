@@ -21,6 +21,8 @@ __all__ = ["compare_png", "metric_deltas", "sweep_png", "sweep_html", "display"]
 
 def display(name: str, value: float) -> tuple[float, str]:
     """``value`` of the SI quantity ``name`` in the unit an engineer reads (rpm, km/h, bar), else SI."""
+    if name.endswith("_radps") and ("yaw" in name or "steer" in name):  # body/steering rates: deg/s, not rpm
+        return math.degrees(value), "deg/s"
     if name.endswith("_radps"):
         return value / RPM_TO_RADPS, "rpm"
     if name.endswith("_mps"):
