@@ -104,3 +104,23 @@ def test_figures_are_written(tmp_path, results):
     p3 = study._road_png(results["curve_pg"].scenario, {"on": results["curve_pg"].trace}, tmp_path / "c.png", "pg")
     for p in (p1, p2, p3):
         assert p.stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("radius", [30.0, 150.0, 400.0])
+def test_kj_map_cells_drive_their_own_road(radius):
+    """The kj map (issue #11 'a map over curve radius x entry speed') varies the road itself: in every cell the
+    plant's curvature and the map preview both give the cell's radius. Reference: the radius asked for, and
+    a_y = u^2/R (steady turning) from the plant's own speed and yaw in the middle of the arc."""
+    import numpy as np
+
+    from vehicle_assist.procedures.curve_shift_study import road_for_radius
+
+    sc = va.load_scenario("curve_envelope_base", [road_for_radius(radius), "run.initial_speed_kph=60",
+                                                  "vehicle.curve_shift.command_needs_deceleration_flag=0"])
+    tr = va.simulate(sc).trace
+    valid = tr["preview_valid_flag"] > 0.5
+    assert np.allclose(tr["preview_radius_m"][valid], radius)
+    mid = np.abs(tr["position_m"] - 450.0) < 5.0
+    assert np.allclose(1.0 / tr["curvature_per_m"][mid], radius)
+    u = tr["speed_mps"][mid]
+    assert np.median(np.abs(tr["lateral_accel_mps2"][mid])) == pytest.approx(np.median(u * u / radius), rel=0.05)

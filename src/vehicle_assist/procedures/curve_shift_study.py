@@ -32,7 +32,12 @@ SCENARIOS = tuple(f"curve_{k}{v}" for v in CASES for k in ("s", "b")) + (
     "curve_s80_map_late", "curve_s80_map_radius_wrong", "curve_s80_map_radius_small")
 
 CURVE_PANELS = [
-    Panel("Vehicle speed (paper 003 Fig. 7-11)", "speed [km/h]", (Line("speed_mps", "speed", 1.0 / KPH_TO_MPS),)),
+    Panel("Vehicle speed (paper 003 Fig. 7-11; grey: the normal schedule's downshift point, as the paper's grey lines)",
+          "speed [km/h]", (Line("speed_mps", "speed", 1.0 / KPH_TO_MPS),
+                           Line("normal_downshift_speed_mps", "normal-schedule downshift speed u_a (line below the gear)",
+                                1.0 / KPH_TO_MPS, "--"),
+                           Line("advanced_downshift_speed_mps", "advanced downshift speed u' = u_a(1 + kj)",
+                                1.0 / KPH_TO_MPS, ":"))),
     Panel("Gear", "gear", (Line("gear_command_index", "TCU command"), Line("gear_index", "engaged (0 = shifting)", 1.0, ":"))),
     Panel("Driver", "pedal [0..1]", (Line("accelerator_frac", "throttle"), Line("brake_pedal_frac", "brake", 1.0, "--"))),
     Panel("Lateral acceleration", "a_y [m/s^2]",
@@ -324,7 +329,26 @@ def falsify_extra(out_dir: Path, budget: int = FALSIFY_BUDGET, seed: int = FALSI
                         "pass": cex is None,
                         "why": (f"issue #11 envelope; {'counterexample' if cex is not None else 'worst point'} at "
                                 f"[{res.envelope.point_name(found.point)}]; requirement: {res.requirement.why}")})
+    # negative controls: the same search must find counterexamples when the function under test is removed
+    for rid, sets, reason in NEGATIVE_CONTROLS:
+        res = run_falsification("curve_shift", rid, budget=budget, seed=seed, optimizer="cma", batch=8, sets=list(sets),
+                                progress=False)
+        found = res.counterexample if res.counterexample is not None else res.best
+        entries.append({"paper": "003", "scenario": f"falsification of {rid} with {'; '.join(sets)} (budget {budget}, "
+                                                    f"seed {seed})",
+                        "criterion": "counterexample found (robustness < 0)", "negative_control": True,
+                        "value": float(found.robustness), "unit": res.requirement.unit or "-", "bound": "< 0",
+                        "pass": res.counterexample is not None,
+                        "why": f"{reason}; found at [{res.envelope.point_name(found.point)}] after "
+                               f"{len(res.evaluations)} evaluations"})
     return figures, entries
+
+
+NEGATIVE_CONTROLS = (
+    ("curve_shift.no_upshift_in_curve_mode", ("vehicle.curve_shift.enabled_flag=0",),
+     "curve_shift.md 8 criterion 2 / paper P1, P13: the normal schedule alone upshifts on lift-off inside the curve "
+     "command window"),
+)
 
 
 SINGLE_TRACK_CASES = ((15.0, 0.03), (25.0, 0.02), (35.0, 0.01))  # (speed m/s, step steer rad)

@@ -115,7 +115,8 @@ CHANNELS: dict[str, str] = {
     "lateral_accel_mps2": "lateral acceleration (single-track mode, left +)",
     "driver_phase_index": "curve driver phase (0 straight, 1 approach, 2 curve, 3 exit; -1 scripted)",
     "curve_mode_flag": "1 while the curve command window is open (curve mode; the strategy acts on it only when enabled)",
-    "curve_mode_prev_flag": "curve_mode_flag of the previous recorded sample (recorder delay line)",
+    "curve_mode_held_index": "1 while curve mode is active at this and at the previous recorded sample (recorder "
+                             "delay line; a number, not a flag, so that an STL robustness over it stays finite)",
     "preview_fallback_flag": "1 while the TCU has found the preview implausible and runs the normal schedule (FALLBACK)",
     "protection_upshift_count": "upshifts the engine protection released in curve mode so far (functions/curve_shift.py)",
     "kj_ratio": "downshift advance kj of the line below the engaged gear (0 outside curve mode)",
@@ -334,7 +335,7 @@ def simulate(p, s, noise, meas, ctl, drv, tr, events):
             row.lateral_accel_mps2 = a_y
             row.driver_phase_index = drv.phase if use_driver else -1.0
             row.curve_mode_flag = 1.0 if int(ctl.mode) == curve_shift.CURVE else 0.0
-            row.curve_mode_prev_flag = tr[n_rec - 1].curve_mode_flag if n_rec > 0 else 0.0
+            row.curve_mode_held_index = row.curve_mode_flag * tr[n_rec - 1].curve_mode_flag if n_rec > 0 else 0.0
             row.preview_fallback_flag = 1.0 if int(ctl.mode) == curve_shift.FALLBACK else 0.0
             row.kj_ratio = ctl.kj_ratio
             row.protection_upshift_count = ctl.protection_upshift_count
