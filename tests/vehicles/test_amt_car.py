@@ -99,3 +99,21 @@ def test_cli_run_accepts_xodr(tmp_path):
                           f'road.opendrive="{tmp_path / "missing.xodr"}"', "--out", str(tmp_path / "o2")],
                          capture_output=True, text=True, timeout=300)
     assert bad.returncode == 2 and "Traceback" not in bad.stderr
+
+
+def test_relative_xodr_path_from_the_working_directory(tmp_path, monkeypatch):
+    """`--set road.opendrive=my_road.xodr` from the folder holding the file (as docs/functions/curve_shift.md shows)
+    reads that file, not a file next to the shipped scenario. Reference: the copied road's own geometry (the clothoid
+    road has a 30 m spiral, so the curvature 15 m into the curve is half the arc's 1/65)."""
+    import shutil
+
+    from vehicle_assist.vehicles.amt_car import resolve_road_file, road_geometry
+
+    shutil.copy(resolve_road_file("curve_r65_clothoids.xodr", None), tmp_path / "my_road.xodr")
+    monkeypatch.chdir(tmp_path)
+    sc = va.load_scenario("curve_s80", ['road.opendrive="my_road.xodr"'])
+    geo = road_geometry(sc)
+    assert geo["source"] == str(tmp_path / "my_road.xodr")
+    # the map's curve begins where |k| = 1/1000 m, i.e. 30*65/1000 = 1.95 m into the 30 m spiral
+    spiral_start = geo["curves"][0].start_m - 30.0 * 65.0 / 1000.0
+    assert np.interp(spiral_start + 15.0, geo["s_m"], geo["curvature_per_m"]) == pytest.approx(0.5 / 65, rel=1e-3)

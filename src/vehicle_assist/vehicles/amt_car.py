@@ -423,7 +423,8 @@ ROAD_SAMPLE_STEP_M = 1.0  # curvature sampled every metre from the .xodr (exact 
 
 
 def resolve_road_file(name: str, anchor: Path | None) -> Path:
-    """A .xodr path relative to the scenario's folder, an absolute path, or a shipped road by file name."""
+    """A .xodr path: absolute; or relative to the scenario's folder; or to the working directory (a ``--set
+    road.opendrive=my_road.xodr`` on the command line); or a shipped road by file name - the first that exists."""
     from importlib import resources
 
     path = Path(name)
@@ -431,6 +432,8 @@ def resolve_road_file(name: str, anchor: Path | None) -> Path:
         return path
     if anchor is not None and (anchor / path).exists():
         return anchor / path
+    if (Path.cwd() / path).exists():
+        return Path.cwd() / path
     shipped = Path(str(resources.files("vehicle_assist") / "data" / "roads")) / path.name
     if shipped.exists() and path.parent == Path("."):
         return shipped
