@@ -697,6 +697,47 @@ def _jerk(ch: dict, t: np.ndarray) -> np.ndarray | None:
     return out
 
 
+# optional channels a twin reads when the trace has them (besides those in its entry)
+_EXTRA_READS = {"launch_time_s": ("brake_pedal_frac", "accelerator_frac"),
+                "jerk_filtered_max_mps3": ("accel_mps2", "vehicle_held_flag"),
+                "jerk_filtered_min_mps3": ("accel_mps2", "vehicle_held_flag"),
+                "jerk_filtered_peak_mps3": ("accel_mps2", "vehicle_held_flag"),
+                "assist_jerk_peak_mps3": ("accel_mps2", "vehicle_held_flag", "hsa_mode_index", "speed_mps")}
+
+
+def plan(channels: Iterable[str], names: Iterable[str] | None = None) -> tuple[list[str], list[str]]:
+    """(metrics to compute, channels they read) for a trace with ``channels``: with ``names`` None, every
+    registered metric the channels support (as :func:`compute_metrics`); all channels if a metric has no twin."""
+    present = set(channels) | {"time_s"}
+    if names is None:
+        selected = [n for n, m in METRICS.items() if all(c in present for c in m.requires)]
+    else:
+        selected = list(names)
+    tw = twins()
+    reads: set[str] = set()
+    for name in selected:
+        if name in tw:
+            reads |= set(tw[name][0])
+        elif name in _EXTRA_READS and name in METRICS and name != "assist_jerk_peak_mps3":
+            pass
+        elif name == "assist_jerk_peak_mps3" and name in METRICS:
+            pass
+        else:
+            return selected, [c for c in channels if c != "time_s"]
+        reads |= set(_EXTRA_READS.get(name, ()))
+    return selected, [c for c in channels if c in reads and c != "time_s"]
+
+
+@nb.njit(**_JIT)
+def gather(x, m, n, cols, out):
+    """out[c, r, :n] = x[r, :n, cols[c]]: the channels of a (runs, samples, fields) float view of the trace rows,
+    made contiguous in one sequential pass (each record read once, not once per metric)."""
+    for r in range(m):
+        for k in range(n):
+            for c in range(cols.shape[0]):
+                out[c, r, k] = x[r, k, cols[c]]
+
+
 def compute_metrics_fast(ch: dict[str, np.ndarray], t: np.ndarray, names: Iterable[str] | None = None,
                          fallback=None) -> dict[str, np.ndarray]:
     """Metrics of a chunk of runs: ``ch`` channel -> (runs, samples) float64 arrays (views are fine), ``t`` the

@@ -308,7 +308,7 @@ def simulate_batch(
     Each chunk of variants is one compiled call (``run_chunk`` of the layout) and its metrics are computed by
     the compiled twins of :mod:`vehicle_assist.metrics.fast` (identical values to :func:`compute_metrics`).
     """
-    from vehicle_assist.metrics.fast import compute_metrics_fast
+    from vehicle_assist.metrics.fast import compute_metrics_fast, gather, plan
     from vehicle_assist.scenarios.variants import VariantSet
 
     vset = scenarios if isinstance(scenarios, VariantSet) else None
@@ -366,8 +366,15 @@ def simulate_batch(
             noises[key] = arr
         return arr
 
+    selected, reads = plan(lay.CHANNELS, names)
+    field_index = {name: i for i, name in enumerate(lay.TRACE_DTYPE.names)}
+    read_cols = np.array([field_index[c] for c in reads], dtype=np.int64)
+    all_f8 = all(lay.TRACE_DTYPE.fields[f][0] == np.float64 for f in lay.TRACE_DTYPE.names) and \
+        lay.TRACE_DTYPE.itemsize == 8 * len(lay.TRACE_DTYPE.names)
+
     def work(blocks_iter) -> None:
         rows = np.zeros((chunk, rec_max), dtype=lay.TRACE_DTYPE)
+        flat_rows = rows.view(np.float64).reshape(chunk, rec_max, -1) if all_f8 else None
         events = np.zeros((EVENT_BUFFER, EVENT_FIELDS))
         for lo, hi in blocks_iter:
             m = hi - lo
@@ -396,14 +403,19 @@ def simulate_batch(
             lengths = written[:m]
             if np.all(lengths == lengths[0]):
                 n_rec = int(lengths[0])
-                channels = {name: rows[name][:m, :n_rec] for name in lay.CHANNELS if name != "time_s"}
-                chunk_metrics = compute_metrics_fast(channels, rows["time_s"][0, :n_rec], names)
+                if flat_rows is not None:  # the read channels made contiguous in one pass
+                    gathered = np.empty((len(read_cols), m, n_rec))
+                    gather(flat_rows, m, n_rec, read_cols, gathered)
+                    channels = {name: gathered[c] for c, name in enumerate(reads)}
+                else:
+                    channels = {name: rows[name][:m, :n_rec] for name in lay.CHANNELS if name != "time_s"}
+                chunk_metrics = compute_metrics_fast(channels, np.array(rows["time_s"][0, :n_rec]), selected)
                 keys = list(chunk_metrics)
                 columns = [np.asarray(chunk_metrics[k], dtype=np.float64).tolist() for k in keys]
                 per_variant = [dict(zip(keys, vals)) for vals in zip(*columns)] if keys else [{} for _ in range(m)]
             else:  # runs of different length (e.g. a stop event): one trace each
                 chunk_metrics = None
-                per_variant = [compute_metrics(Trace({name: rows[name][j, :lengths[j]] for name in lay.CHANNELS}), names)
+                per_variant = [compute_metrics(Trace({name: rows[name][j, :lengths[j]] for name in lay.CHANNELS}), selected)
                                for j in range(m)]
             if same_checks:
                 checks = (base or scenarios[0]).model.checks
