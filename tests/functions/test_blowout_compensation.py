@@ -101,7 +101,7 @@ class Ecu:
         for _ in range(int(round(s / dt))):
             v_ref = bc.reference_step(self.st, np.array(vw, float), a_x, tpms, dt, self.p)
             n0 = self.n
-            self.n = bc.blowout_step(self.st, np.array(vw, float), v_ref, braking, a_x, yaw, tpms, np.array(inlet, float),
+            self.n = bc.blowout_step(self.st, np.array(vw, float), v_ref, braking, a_x, yaw, 0.0, tpms, np.array(inlet, float),
                                      np.array(p_est, float), self.p, dt, self.t, 6, self.events, self.n, self.req)
             for k in range(n0, self.n):
                 _, _, f, to, g = self.events[k]
@@ -325,3 +325,29 @@ def test_rear_blowout_high_speed_follow_driver_no_worse():
     off = va.simulate(va.load_scenario("blowout_lf_60kph_off", sets=sets)).metrics
     assert on["blowout_lateral_deviation_run_max_m"] < off["blowout_lateral_deviation_run_max_m"]
     assert on["blowout_lane_departure_flag"] == 0
+
+
+def test_reference_yaw_rate_closed_form(params):
+    """Single-track steady state r = u*delta/(l + K u^2), K = m/l*(l_r/C_f - l_f/C_r) (BJ2500, tire_blowout.md 7:
+    m 1700 kg, l 2.576 m, l_f 1.159 m, C_f 2*50 kN/rad, C_r 2*55 kN/rad); a 650 m curve at 100 km/h needs
+    delta = (l + K u^2)/R, which gives back r = u/R."""
+    k = 1700.0 / 2.576 * (1.417 / 1.0e5 - 1.159 / 1.1e5)
+    u, radius = 100 / 3.6, 650.0
+    delta = (2.576 + k * u * u) / radius
+    assert bc.reference_yaw_rate(delta, u, params) == pytest.approx(u / radius, rel=1e-9)
+
+
+def test_curve_yaw_is_not_taken_for_over_compensation(params):
+    """In a left curve the yaw rate of the steering is subtracted: a right-front blowout's compensation (which
+    judges yaw toward the right as plausible) is not limited by the curve's own +u/R yaw rate."""
+    u, radius = V, 300.0
+    k = 1700.0 / 2.576 * (1.417 / 1.0e5 - 1.159 / 1.1e5)
+    delta = (2.576 + k * u * u) / radius
+    e = Ecu(params)
+    e.run(0.2, vw=(V, V, V, V))
+    for _ in range(60):
+        v_ref = bc.reference_step(e.st, np.array((V, FAST, V, V)), 0.0, 2.0, 0.005, e.p)
+        e.n = bc.blowout_step(e.st, np.array((V, FAST, V, V)), v_ref, 0.0, 0.0, u / radius, delta, 2.0,
+                              np.ones(4), np.zeros(4), e.p, 0.005, e.t, 6, e.events, e.n, e.req)
+        e.t += 0.005
+    assert e.mode == "HOLD" and e.req[0] == bc.Q_HOLD  # not dumped although u/R = 0.056 rad/s > 2 deg/s

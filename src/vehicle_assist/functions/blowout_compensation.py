@@ -42,7 +42,8 @@ code 2 if that wheel's inlet is stuck as well (no authority). BUILD/HOLD -> LIMI
 same diagnosis arriving after the detection.
 BUILD -> HOLD (valve_time_elapsed).
 HOLD/LIMITED -> REJECTED (yaw_implausible), single-source detections only: the car yaws away from the
-presumed blown side by more than ``abort_yaw_rate`` - a false detection: the brake is released AND the blown
+presumed blown side by more than ``abort_yaw_rate`` (yaw rate minus the steady-state yaw rate of the measured
+steer angle, ``reference_yaw_rate``, so a curve does not count) - a false detection: the brake is released AND the blown
 latch is cleared, so the wheel is no longer held released and ABS/HBA run on all four wheels as without the
 function (review finding: the latch stayed and the healthy wheel was never braked again, 5.86 m off the lane
 when the driver then braked); the rejected wheel is remembered so the same single-source signature does not
@@ -192,6 +193,18 @@ def ecu_loads(p, a_x):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def reference_yaw_rate(steer_rad, speed_mps, p):
+    """The ECU's expected yaw rate for the measured road-wheel angle (linear single-track steady state,
+    r = u*delta/(l + K*u^2), K = m/l*(l_r/C_f - l_f/C_r) from its nominal data; standard ESP practice):
+    yaw is judged as the deviation from it, so a curve's own yaw rate is not taken for a blowout's."""
+    l_f = p.chassis_cg_to_front_axle_m
+    l = p.chassis_wheelbase_m
+    k = p.body_mass_kg / l * ((l - l_f) / (2.0 * p.tires_cornering_stiffness_front_n_per_rad)
+                              - l_f / (2.0 * p.tires_cornering_stiffness_rear_n_per_rad))
+    return speed_mps * steer_rad / (l + k * speed_mps * speed_mps)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def excluded_wheel(st):
     """Wheel the reference speed ignores: the detected blown wheel, else the one the TPMS named (-1 none)."""
     return int(st[S_EXCLUDED])
@@ -288,14 +301,16 @@ def _plan(st, b, target, limited, slip_mean, a_x, p_est, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate, tpms_wheel, inlet_ok, p_est, p, dt, t, machine_id, events,
-                 n_events, requests):
+def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_wheel, inlet_ok, p_est, p, dt, t,
+                 machine_id, events, n_events, requests):
     """One ESP period of the compensation (after ``reference_step``); fills ``requests[4]`` (Q_*);
-    ``braking`` = brake-light switch; ``p_est`` = the ECU's wheel-pressure estimates; returns n_events."""
+    ``braking`` = brake-light switch; ``p_est`` = the ECU's wheel-pressure estimates; the yaw rate is judged
+    relative to ``reference_yaw_rate`` of the measured steer angle; returns n_events."""
     for i in range(4):
         requests[i] = Q_NONE
     if p.blowout_compensation_enabled_flag < 0.5:
         return n_events
+    yaw_rate = yaw_rate_meas - reference_yaw_rate(steer_rad, v_ref, p)
     mode = int(st[S_MODE])
     rejected = int(st[S_REJECTED])
     # detection: wheel-speed signature and/or TPMS alarm (index 1..4; 0 none)

@@ -250,7 +250,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     blow_req = np.zeros(4, dtype=np.int64)
     p_est = wheels[:, A_P_EST].copy()
     n_events = bc.blowout_step(bst, vw_arr, v_ref_intact, 1.0 if bls else 0.0, meas.longitudinal_accel_mps2,
-                               meas.yaw_rate_radps, tpms, inlet_ok, p_est, p, dt, t, m_blow, events, n_events, blow_req)
+                               meas.yaw_rate_radps, meas.steering_angle_rad, tpms, inlet_ok, p_est, p, dt, t, m_blow,
+                               events, n_events, blow_req)
 
     # arbitration and the ECU's pressure estimate
     front_driver = np.zeros(2, dtype=np.bool_)  # per circuit: its front wheel is on the driver's pressure (A_DRIVER)
