@@ -32,12 +32,10 @@ SCENARIOS = tuple(f"curve_{k}{v}" for v in CASES for k in ("s", "b")) + (
     "curve_s80_map_late", "curve_s80_map_radius_wrong", "curve_s80_map_radius_small")
 
 CURVE_PANELS = [
-    Panel("Vehicle speed (paper 003 Fig. 7-11; grey: the normal schedule's downshift point, as the paper's grey lines)",
-          "speed [km/h]", (Line("speed_mps", "speed", 1.0 / KPH_TO_MPS),
-                           Line("normal_downshift_speed_mps", "normal-schedule downshift speed u_a (line below the gear)",
-                                1.0 / KPH_TO_MPS, "--"),
-                           Line("advanced_downshift_speed_mps", "advanced downshift speed u' = u_a(1 + kj)",
-                                1.0 / KPH_TO_MPS, ":"))),
+    Panel("Speed (Fig. 7-11 style)", "speed [km/h]",
+          (Line("speed_mps", "speed", 1.0 / KPH_TO_MPS),
+           Line("normal_downshift_speed_mps", "normal downshift u_a", 1.0 / KPH_TO_MPS, "--"),
+           Line("advanced_downshift_speed_mps", "advanced u'", 1.0 / KPH_TO_MPS, ":"))),
     Panel("Gear", "gear", (Line("gear_command_index", "TCU command"), Line("gear_index", "engaged (0 = shifting)", 1.0, ":"))),
     Panel("Driver", "pedal [0..1]", (Line("accelerator_frac", "throttle"), Line("brake_pedal_frac", "brake", 1.0, "--"))),
     Panel("Lateral acceleration", "a_y [m/s^2]",
