@@ -13,15 +13,16 @@ $(STAMP): pyproject.toml constraints.txt
 	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[dev,mdf,dist]'
 	touch $(STAMP)
 
-setup: $(STAMP)
+setup: warm
 
-demo: $(STAMP)
+demo: warm
 	$(BIN)/vehicle-assist reproduce --out $(OUT)/reproduce
 
-# compile the kernels once before the two test workers start (else each compiles them, and both write
-# the same cache files at once)
+# compile the kernels of every shipped layout (and the batch path) into the cache once: a user's first run after
+# 'make setup' loads compiled code instead of compiling it, and the two test workers do not both compile and
+# write the same cache files at once (issue 13; vehicle_assist/_cache.py warm)
 warm: $(STAMP)
-	$(BIN)/python -c "import vehicle_assist as va; [va.simulate(va.load_scenario(n, ['run.duration_s=0.1'])) for n in ('hsa_truck_full_14deg_8p0bar', 'hsa_ev_5deg_paper', 'hba_paper_110kph_dry', 'curve_s80')]"
+	$(BIN)/python -c "from vehicle_assist._cache import warm; warm()"
 
 # a real headless browser for the report test (tests/report/test_browser.py): Debian's chromium, installed only
 # if missing and only when running as root (CI containers); otherwise that test skips and says why

@@ -90,3 +90,25 @@ def configure() -> None:
     os.environ["NUMBA_CACHE_DIR"] = cache_dir()
     if "numba" in sys.modules:  # numba already imported by the caller: set its config directly
         sys.modules["numba"].config.CACHE_DIR = os.environ["NUMBA_CACHE_DIR"]
+
+
+# one scenario per shipped layout: a 0.1 s run of each compiles (or loads) its kernel, the numpy metrics' filter
+# and, with a two-variant batch, the chunk call and the compiled metric twins
+WARM_SCENARIOS = ("hsa_truck_full_14deg_8p0bar", "hsa_ev_5deg_paper", "hba_paper_110kph_dry", "curve_s80")
+
+
+def warm(batch: bool = True) -> None:
+    """Fill the compile cache for every shipped layout (``make setup`` / ``make warm``), so that a user's first
+    ``vehicle-assist run`` loads compiled code instead of compiling it (~10 s)."""
+    import vehicle_assist as va
+    from vehicle_assist.scenarios.runner import simulate_batch
+
+    for name in WARM_SCENARIOS:
+        sc = va.load_scenario(name, ["run.duration_s=0.1"])
+        va.simulate(sc)
+        if batch:
+            simulate_batch([sc, sc], workers=1)
+
+
+if __name__ == "__main__":
+    warm()
