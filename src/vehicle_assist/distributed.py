@@ -108,9 +108,11 @@ def identity() -> dict:
 def _warm(base) -> None:
     """Compile (or load) the base layout's kernel in this process, so the cache on disk is written once
     before worker processes start and each of them only loads it."""
-    from vehicle_assist.scenarios.runner import simulate
+    from vehicle_assist.scenarios.runner import simulate, simulate_batch
 
-    simulate(base.with_sets("run.duration_s=0.1"), requirements=False)
+    short = base.with_sets("run.duration_s=0.1")
+    simulate(short, requirements=False)
+    simulate_batch([short, short], workers=1)  # the batch path compiles its own specialisations (2-D metrics)
 
 
 class Backend:
@@ -155,6 +157,9 @@ class Backend:
         except Exception as exc:  # OSError (unreachable, timeout), ValueError (bad address), a protocol error
             self.close()
             what = str(exc).splitlines()[0] if str(exc) else exc.__class__.__name__
+            if self.target == "local":
+                raise InputError(f"cannot start a local dask cluster: {plain(what)[:200]} (a script that uses it "
+                                 "needs an 'if __name__ == \"__main__\":' guard: its workers are spawned)") from None
             raise InputError(f"cannot connect to the dask scheduler at {plain(self.target)} within "
                              f"{timeout:g} s: {plain(what)[:200]}") from None
         try:
@@ -168,10 +173,10 @@ class Backend:
     def _check_workers(self) -> None:
         timeout = connect_timeout_s()
         try:
-            self.client.wait_for_workers(1, timeout=timeout)
+            self.client.wait_for_workers(1, timeout=max(timeout, 30.0))  # a loaded machine starts workers slowly
         except Exception:
             raise InputError(f"the dask scheduler at {plain(self.target)} has no worker (none joined within "
-                             f"{timeout:g} s); start some with: dask worker {plain(self.target)}") from None
+                             f"{max(timeout, 30.0):g} s); start some with: dask worker {plain(self.target)}") from None
         try:
             self.client.get_versions(check=True)
         except Exception as exc:
