@@ -48,17 +48,16 @@ ARBITRATION = np.array([
     [W_B, W_HI, W_D, W_BP, W_HI, W_BP],  # ACTIVE
     [W_T, W_T, W_D, W_T, W_T, W_T],      # TERMINATING (wheel above the driver's pressure)
     [W_N, W_H, W_D, W_BPM, W_H, W_BPM],  # T_DONE: TERMINATING, this wheel's ramp-out complete
-    [W_N, W_H, W_D, W_BPM, W_H, W_BPM],  # A_DRIVER: ACTIVE, but the driver's pressure is above the wheel's
+    [W_N, W_H, W_D, W_BPM, W_H, W_BPM],  # A_DRIVER: ACTIVE, the driver alone reaches this circuit's lock limit
 ], dtype=np.int64)
 ARBITRATION_ROWS = ("INACTIVE", "ACTIVE", "TERMINATING", "T_DONE", "A_DRIVER")
 T_DONE, A_DRIVER = 3, 4
 CIRCUIT = np.array([0, 1, 1, 0], dtype=np.int64)  # X-split: circuit 1 = fl + rr, circuit 2 = fr + rl
 # A_DRIVER (issue #9 review, "never worse than no assist"): the pump is only the pressure source where it has to
-# lift the wheel above the driver (paper P2/P6: "raises line pressure up to the ABS control level"). Where the
-# driver's own pressure is already above the wheel's by more than the 1 bar settling band (the driver alone reaches
-# the lock limit, or a dump took the wheel below the driver), the circuit stays open to the master cylinder and
-# ABS works on the driver's pressure exactly as without HBA; isolating it and re-building by the pump cost up to
-# 0.2 m of stopping distance (wet, mu 0.75, 200 N in 7 ms from 100 km/h: the two ABS limit cycles drift apart).
+# lift the wheel above the driver (paper P2/P6: "raises line pressure up to the ABS control level"). Where ABS finds
+# the lock limit below the driver's own pressure, the circuit stays open to the master cylinder and ABS works on
+# the driver's pressure exactly as without HBA; isolating it, pumping the rear above its proportioned pressure and
+# re-building by the pump cost up to 0.28 m of stopping distance (mu 0.5 dry, 200 N in 7 ms from 100 km/h).
 RAMP_SETTLED_PA = 1.0e5  # "|p_w - p_src| < 1 bar" ends a wheel's ramp-out (spec 3 TERMINATING, criterion 7)
 PRIORITY = np.array([0, 2, 3, 1], dtype=np.int64)  # select-low: DUMP > HOLD > BUILD > OFF
 # BLOWOUT_ARBITRATION[compensation request][wheel mode after ABS/HBA] -> wheel mode (paper 004 P7, issue #10):
@@ -77,7 +76,8 @@ ABS_LOG_CAP = 60  # ABS mode changes logged per wheel (the event buffer is share
 
 # controller state vector (named indices)
 C_V_REF, C_STARTED, C_IMPLAUSIBLE_S, C_SENSOR_LATCH, C_GMA_START, C_GMA_WHEEL, C_T, C_SENSOR_OK, C_ABS_OK, \
-    C_HBA_AVAILABLE, C_PUMP_LIFTED_C1, C_PUMP_LIFTED_C2 = range(12)
+    C_HBA_AVAILABLE, C_SOURCE_C1, C_SOURCE_C2 = range(12)
+SRC_UNDECIDED, SRC_PUMP, SRC_DRIVER = 0.0, 1.0, 2.0  # per circuit during an assist (C_SOURCE_C1/C2)
 CTL_SIZE = 12
 # per-wheel state (rows fl, fr, rl, rr)
 A_MODE, A_BUILD_S, A_VW_PREV, A_SINCE_HD_S, A_LOGGED, A_SLIP, A_DECEL, A_REQUEST, A_WHEEL_MODE, A_P_EST = range(10)
@@ -101,7 +101,10 @@ def _estimate(mode, p_est, p_src, dt, p):
         if p.esp_unit_pressure_source > 0.5:  # accumulator (EHB of paper 004): orifice-like fill
             rate = max(p.esp_unit_accumulator_pa - p_est, 0.0) / p.esp_unit_accumulator_time_constant_s \
                 * (1.0 if mode == W_B else p.esp_unit_pulse_duty_frac)
-        return max(min(p_est + rate * dt, max(p.esp_unit_pump_relief_pa, p_est)), p_src)
+        built = min(p_est + rate * dt, max(p.esp_unit_pump_relief_pa, p_est))
+        if mode == W_B:  # USV check valve: a higher driver pressure flows in through the line (tau_line), as the unit
+            return max(built, p_est + (p_src - p_est) * min(dt / p.esp_unit_line_time_constant_s, 1.0))
+        return built  # BP: the pulsed inlet is the bottleneck, no follow of the driver (plant/brakes/esp_unit.py)
     if mode == W_BPM:
         return p_est + min(p.esp_unit_pulse_duty_frac * max(p_src - p_est, 0.0) * min(dt / p.esp_unit_line_time_constant_s, 1.0),
                            p.esp_unit_pulse_duty_frac * p.esp_unit_pump_build_rate_pa_per_s * dt)
@@ -254,25 +257,32 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                                events, n_events, blow_req)
 
     # arbitration and the ECU's pressure estimate
-    front_driver = np.zeros(2, dtype=np.bool_)  # per circuit: its front wheel is on the driver's pressure (A_DRIVER)
+    # Per circuit, during an assist, which pressure source serves it is decided once by the front wheel (latched):
+    # SRC_PUMP when the pump has lifted it more than 1 bar above the driver; SRC_DRIVER when ABS finds its lock
+    # limit (slip beyond the hold threshold with a hold or dump) while the driver's pressure is more than 1 bar above
+    # the wheel's - the driver alone reaches the ABS level. A SRC_DRIVER circuit (one switching valve, so its rear
+    # wheel too) uses row A_DRIVER: plain ABS on the driver's pressure, as without HBA.
+    for i in range(2):
+        c = CIRCUIT[i]
+        if hba_mode != hba.ACTIVE:
+            ctl[C_SOURCE_C1 + c] = SRC_UNDECIDED
+        elif ctl[C_SOURCE_C1 + c] == SRC_UNDECIDED:
+            if wheels[i, A_P_EST] - p_mc > RAMP_SETTLED_PA:
+                ctl[C_SOURCE_C1 + c] = SRC_PUMP
+            elif (p_mc - wheels[i, A_P_EST] > RAMP_SETTLED_PA and wheels[i, A_SLIP] > p.esp_abs_hold_slip_frac
+                  and (int(wheels[i, A_MODE]) == abs_fn.HOLD or int(wheels[i, A_MODE]) == abs_fn.DUMP)):
+                ctl[C_SOURCE_C1 + c] = SRC_DRIVER
     for i in range(4):
         row = hba_mode
         src_i = p_mc if i < 2 else _prop(p_mc, p)
-        c = CIRCUIT[i]
-        if i < 2:  # latch per circuit: the pump has lifted its front wheel above the driver during this assist
-            if hba_mode != hba.ACTIVE:
-                ctl[C_PUMP_LIFTED_C1 + c] = 0.0
-            elif wheels[i, A_P_EST] - src_i > RAMP_SETTLED_PA:
-                ctl[C_PUMP_LIFTED_C1 + c] = 1.0
         if hba_mode == hba.TERMINATING and wheels[i, A_P_EST] - src_i < RAMP_SETTLED_PA:
             row = T_DONE
-        elif hba_mode == hba.ACTIVE and ctl[C_PUMP_LIFTED_C1 + c] < 0.5 and (
-                src_i - wheels[i, A_P_EST] > RAMP_SETTLED_PA or (i >= 2 and front_driver[c])):
-            # as long as the pump has not had to lift the circuit's front wheel above the driver, the driver alone
-            # reaches its ABS level: the circuit (one switching valve, so its rear wheel too) stays on the driver
+        elif hba_mode == hba.ACTIVE and (ctl[C_SOURCE_C1 + CIRCUIT[i]] == SRC_DRIVER or (
+                i >= 2 and ctl[C_SOURCE_C1 + CIRCUIT[i]] == SRC_UNDECIDED)):
+            # a rear wheel is pumped above its proportioned driver pressure only once the pump has had to lift its
+            # circuit's front wheel (pumping it while the front still rebuilt below the driver put the rear into ABS
+            # cycling the car without HBA does not have)
             row = A_DRIVER
-        if i < 2:
-            front_driver[c] = row == A_DRIVER
         wm = ARBITRATION[row, int(wheels[i, A_REQUEST])] if abs_ok else W_N
         if abs_ok and blow_req[i] != bc.Q_NONE:
             wm = BLOWOUT_ARBITRATION[blow_req[i], wm]
