@@ -76,7 +76,8 @@ assert MACHINE.guards == (
 )
 
 STATE_DTYPE = np.dtype([("mode", "f8"), ("clutch_command_frac", "f8"), ("gear_command_index", "f8"),
-                        ("engine_speed_prev_radps", "f8"), ("engine_speed_rate_radps2", "f8")])
+                        ("engine_speed_prev_radps", "f8"), ("engine_speed_rate_radps2", "f8"),
+                        ("guards", "f8", (10,))])  # guard values of the tick (scratch: no allocation per tick)
 SPEED_RATE_FILTER_S = 0.05  # low-pass of dn_e/dt for the clutch-torque estimate (assumed, as the assist's)
 
 
@@ -148,7 +149,8 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
                     - p.engine_inertia_kgm2 * c.engine_speed_rate_radps2)
         engine_can_lock = (m.engine_speed_ok > 0.5 and m.engine_speed_radps >= p.amt_launch_lockup_min_speed_radps
                            and full_load_torque_nm(p, m.engine_speed_radps) >= t_clutch)
-    g = np.zeros(10, dtype=np.bool_)  # g[G_TOOK_OVER], g[G_HANDED_OVER] stay False here: see the table
+    g = c.guards  # g[G_TOOK_OVER], g[G_HANDED_OVER] stay False here: see the table
+    g[:] = 0.0
     g[G_GEAR_CHANGE] = m.gear_lever_index != m.gear_engaged_index or m.gear_lever_index != c.gear_command_index
     g[G_GEAR_ENGAGED] = m.gear_engaged_index == c.gear_command_index
     g[G_LAUNCH] = m.gear_engaged_index > 0 and m.accelerator_frac >= p.amt_launch_launch_accelerator_frac

@@ -26,7 +26,8 @@ MACHINE = StateMachine(
 TABLE = MACHINE.table()
 NEUTRAL, DRIVE = range(2)
 G_DRIVE, G_NEUTRAL = range(2)
-STATE_DTYPE = np.dtype([("mode", "f8"), ("torque_request_nm", "f8"), ("brake_pressure_command_pa", "f8")])
+STATE_DTYPE = np.dtype([("mode", "f8"), ("torque_request_nm", "f8"), ("brake_pressure_command_pa", "f8"),
+                        ("guards", "f8", (2,))])  # guard values of the tick (scratch: no allocation per tick)
 
 
 def initial_state() -> np.recarray:
@@ -35,7 +36,8 @@ def initial_state() -> np.recarray:
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def step(c, m, p, dt, t, machine_id, events, n_events):
-    g = np.zeros(2, dtype=np.bool_)
+    g = c.guards
+    g[:] = 0.0
     g[G_DRIVE] = m.gear_lever_index >= 1.0
     g[G_NEUTRAL] = m.gear_lever_index < 1.0
     mode = int(c.mode)

@@ -188,6 +188,7 @@ STATE_DTYPE = np.dtype([
     ("refusal_code", "f8"),                  # 0, or k: REFUSAL_REASONS[k - 1]
     ("standing_time_s", "f8"),               # time the truck has stood still without interruption
     ("spin_time_s", "f8"),                   # park brake released, clutch above the need, truck standing
+    ("guards", "f8", (N_GUARDS,)),           # guard values of the tick (scratch: no allocation per tick)
 ])
 STAND_DOWN_PASSIVE, STAND_DOWN_HOLD, STAND_DOWN_DRIVE_ON, STAND_DOWN_RESIST = range(4)
 
@@ -353,7 +354,8 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
         x_support = _position(p, p.hill_start_assist_hold_torque_margin_frac * park_short_n * p.body_wheel_radius_m
                               / (ratio * p.gearbox_efficiency_frac))
 
-    g = np.zeros(N_GUARDS, dtype=np.bool_)
+    g = c.guards
+    g[:] = 0.0
     g[G_SWITCH_FAILED] = entry and m.park_lamp_ok < 0.5
     g[G_RESERVOIR_LOW] = entry and park_applied and (
         m.reservoir_pressure_ok < 0.5 or m.reservoir_pressure_pa < p.hill_start_assist_reservoir_min_pa)

@@ -132,6 +132,7 @@ STATE_DTYPE = np.dtype([
     ("refusal_code", "f8"),                # 0 none, k = 1 + index in REFUSAL_GUARDS
     ("warning_flag", "f8"),
     ("grade_valid_flag", "f8"),            # 1 once the grade was read at this standstill from a valid accelerometer
+    ("guards", "f8", (14,)),               # guard values of the tick (scratch: no allocation per tick)
 ])
 
 
@@ -211,7 +212,8 @@ def step(c, m, p, dt, t, machine_id, events, n_events):
     k_hold = k_s * max(c.grade_force_n, 0.0) + margin  # K: hold force kept until the motor carries the grade
     c.hold_pressure_pa = k_s * max(c.grade_force_n, 0.0) * r / k_b
 
-    g = np.zeros(14, dtype=np.bool_)
+    g = c.guards
+    g[:] = 0.0
     g[G_NEXT1] = being_released and standing and m.gear_lever_index >= 1.0 and c.slope_checked_flag < 0.5
     # after handing back: the car stops on the slope and rolls back in D with the driver off the brake (e.g. a
     # driver who lifts the accelerator while creeping uphill): hold it again (the last grade reading at rest)

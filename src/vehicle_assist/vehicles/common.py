@@ -28,20 +28,30 @@ EVENT_CAPACITY = 16
 EVENT_BUFFER = 512
 
 
-@nb.njit(cache=True, nogil=True, error_model="numpy")
+# road_at and road_friction_at run every plant step: inlined into the kernels, and a constant table (one
+# breakpoint, what interp returns as ys[0]) is read without the call (issue 13: -x % of the truck step)
+@nb.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def road_at(s, position_m):
     """(slope_rad, rolling_resistance_coeff) at a distance along the road."""
-    slope = interp(s.road_slope_x, s.road_slope_y, s.road_slope_n, s.road_slope_extrap, s.road_slope_interp,
-                        position_m)
-    coeff = interp(s.road_rolling_resistance_x, s.road_rolling_resistance_y, s.road_rolling_resistance_n,
-                        s.road_rolling_resistance_extrap, s.road_rolling_resistance_interp, position_m)
+    if s.road_slope_n == 1:
+        slope = s.road_slope_y[0]
+    else:
+        slope = interp(s.road_slope_x, s.road_slope_y, s.road_slope_n, s.road_slope_extrap, s.road_slope_interp,
+                       position_m)
+    if s.road_rolling_resistance_n == 1:
+        coeff = s.road_rolling_resistance_y[0]
+    else:
+        coeff = interp(s.road_rolling_resistance_x, s.road_rolling_resistance_y, s.road_rolling_resistance_n,
+                       s.road_rolling_resistance_extrap, s.road_rolling_resistance_interp, position_m)
     return slope, coeff
 
 
-@nb.njit(cache=True, nogil=True, error_model="numpy")
+@nb.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def road_friction_at(s, position_m):
     """Tyre-road adhesion coefficient mu at a distance along the road (1.0 unless the scenario gives
     ``road.friction``); the compositions limit the force each axle can transmit to mu*F_z."""
+    if s.road_friction_n == 1:
+        return s.road_friction_y[0]
     return interp(s.road_friction_x, s.road_friction_y, s.road_friction_n, s.road_friction_extrap,
                   s.road_friction_interp, position_m)
 

@@ -195,8 +195,18 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
 
     # the road at the start position, so that the first sensor sample reads the real grade
     slope, f_coeff = road_at(s, x)
+    ctrl_left = np.int64(0)  # steps to the next sampling tick / trace row (countdowns: no k % n per step)
+    rec_left = np.int64(0)
     for k in range(n_steps + 1):
         t = k * dt
+        ctrl_now = ctrl_left == 0
+        if ctrl_now:
+            ctrl_left = ctrl_every
+        ctrl_left -= 1
+        rec_now = rec_left == 0
+        if rec_now:
+            rec_left = rec_every
+        rec_left -= 1
         signals[0] = v
         signals[1] = x
         signals[2] = t_m
@@ -209,12 +219,12 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
         if event_now:
             if actuator_fault[0, 0] > 0.0:
                 ehb_limit_pa = min(p.ehb_max_pressure_pa, actuator_fault[0, 1])
-        if k % ctrl_every == 0 or event_now:
+        if ctrl_now or event_now:
             # the scripted driver acts at the sampling tick (100 Hz by default: far above human bandwidth;
             # at every 1 ms step it cost a quarter of the run time), and at once when an event overrides it
             driver_inputs(s, t, override_on, override_value, inputs)
 
-        if k % ctrl_every == 0:
+        if ctrl_now:
             truth[0] = v
             truth[1] = v * i0 / r
             truth[2] = t_m
@@ -289,7 +299,7 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
             f_roll = d * f_roll_cap
             p_brake = f_b_eff * abs(v)
 
-        if k % rec_every == 0 and n_rec < tr.shape[0]:
+        if rec_now and n_rec < tr.shape[0]:
             row = tr[n_rec]
             row.time_s = t
             row.position_m = x

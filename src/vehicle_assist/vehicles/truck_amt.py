@@ -278,8 +278,18 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
 
     # the road at the start position, so that the first sensor sample reads the real grade
     slope, f_coeff = road_at(s, x)
+    ctrl_left = np.int64(0)  # steps to the next sampling tick / trace row (countdowns: no k % n per step)
+    rec_left = np.int64(0)
     for k in range(n_steps + 1):
         t = k * dt
+        ctrl_now = ctrl_left == 0
+        if ctrl_now:
+            ctrl_left = ctrl_every
+        ctrl_left -= 1
+        rec_now = rec_left == 0
+        if rec_now:
+            rec_left = rec_every
+        rec_left -= 1
         # 1. scenario events, driver
         signals[0] = v
         signals[1] = x
@@ -293,13 +303,13 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
                                                      override_on, override_value, fault, fault_value, actuator_fault)
         if event_now:
             valve_fault = int(actuator_fault[0, 0])
-        if k % ctrl_every == 0 or event_now:
+        if ctrl_now or event_now:
             # the scripted driver acts at the sampling tick (100 Hz by default: far above human bandwidth;
             # at every 1 ms step it cost a quarter of the run time), and at once when an event overrides it
             driver_inputs(s, t, override_on, override_value, inputs)
 
         # 2. sample, then run the controllers on that sample
-        if k % ctrl_every == 0:
+        if ctrl_now:
             truth[0] = v
             truth[1] = w_e
             truth[2] = w_in
@@ -480,7 +490,7 @@ def simulate(p, s, noise, meas, tcu, hsa, tr, events):
             p_brake = (f_pb_cap + f_sb_cap) * abs(v)
 
         # 4. record the state at t with the forces acting at t
-        if k % rec_every == 0 and n_rec < tr.shape[0]:
+        if rec_now and n_rec < tr.shape[0]:
             row = tr[n_rec]
             row.time_s = t
             row.position_m = x
