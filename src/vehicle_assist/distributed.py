@@ -28,6 +28,7 @@ from __future__ import annotations
 import contextlib
 import os
 import time
+import warnings
 from typing import Any, Callable, Iterable, Iterator
 
 from vehicle_assist.scenarios.errors import InputError, plain
@@ -146,8 +147,10 @@ class Backend:
             if self.target == "local":
                 n = self.workers or (os.cpu_count() or 1)
                 env = {"OPENBLAS_NUM_THREADS": "1", "NUMBA_CACHE_DIR": os.environ.get("NUMBA_CACHE_DIR", "")}
-                self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                                            silence_logs=logging.CRITICAL, env={k: v for k, v in env.items() if v})
+                with warnings.catch_warnings():  # "port 8787 in use, dashboard elsewhere": not for the user
+                    warnings.simplefilter("ignore")
+                    self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
+                                                silence_logs=logging.CRITICAL, env={k: v for k, v in env.items() if v})
                 self.client = Client(self.cluster, timeout=timeout)
             else:
                 self.client = Client(self.target, timeout=timeout)

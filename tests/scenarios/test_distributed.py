@@ -51,7 +51,7 @@ def assert_bitwise_equal(a_path: Path, b_path: Path) -> None:
 def cluster():
     # compile (or load) the kernel here first: the workers then only load it from the shared disk cache
     va.simulate(va.load_scenario(SCENARIO, SETS + ["run.duration_s=0.1"]), requirements=False)
-    lc = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+    lc = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0",
                                   env={"OPENBLAS_NUM_THREADS": "1", "NUMBA_CACHE_DIR": os.environ.get("NUMBA_CACHE_DIR", "")})
     try:
         yield lc
