@@ -134,3 +134,18 @@ def test_deflation_ramp():
     assert bo.deflation_frac(1.05, 1.0, 0.1) == pytest.approx(0.5)
     assert bo.deflation_frac(2.0, 1.0, 0.1) == 1.0
     assert bo.blown_radius_m(0.5, R_OUT, R_IN) == pytest.approx(0.5 * (R_OUT + R_IN))
+
+
+def test_blowout_at_a_position():
+    """Issue #10: the event can be placed by position: at 60 km/h (16.67 m/s, coasting slows the car by well under
+    1 %) a blowout at 30 m starts at t = 30/16.67 = 1.8 s (one 0.5 ms step and the slight coast-down allowed)."""
+    import numpy as np
+
+    import vehicle_assist as va
+
+    r = va.simulate(va.load_scenario("blowout_lf_60kph_off", sets=["vehicle.blowout.position_m=30"]))
+    t = np.asarray(r.trace["time_s"])
+    phi = np.asarray(r.trace["blowout_frac"])
+    t_b = t[np.flatnonzero(phi > 0.0)[0]]
+    assert 30.0 / (60 / 3.6) <= t_b <= 30.0 / (60 / 3.6) * 1.01 + 0.01
+    assert np.all(np.asarray(r.trace["blowout_wheel_index"])[phi > 0.0] == 0)
