@@ -13,6 +13,11 @@ Results go to ``OUT/parts/part-NNNNN.parquet`` (one per chunk, written atomicall
   runs; a lock left by a dead process is taken over.
 * Every option and every value of every axis is validated, and the time and memory are estimated, before
   anything is written; a sweep that fails before its first part leaves nothing behind.
+* Backends (``scheduler``, see :mod:`vehicle_assist.distributed`): this process's threads, or dask workers
+  (a local cluster of processes, or any scheduler address). Both compute a part with :func:`compute_part`
+  (variants built from the grid indices by :func:`combo_at`), so they write the same files bit for bit and
+  a sweep begun on one resumes on the other. On dask, at most two parts per worker thread are in flight and
+  each is written by the client as it arrives; ``sweep.parquet`` is streamed from the parts one at a time.
 """
 from __future__ import annotations
 
