@@ -124,7 +124,7 @@ def test_strategy_off_tracks_the_window_but_shifts_by_the_normal_schedule():
     r, ev = _events("curve_b80")
     assert ("curve_shift", "curve_command") in ev
     assert np.max(r.trace["curve_mode_flag"]) == 1.0
-    assert np.max(r.trace["kj_ratio"]) == 0.0
+    assert np.max(r.trace["kj_ratio"]) == 0.0 and np.max(r.trace["kj_frac"]) == 0.0
     nomap = va.simulate(va.load_scenario("curve_b80", ["vehicle.map_preview.available_flag=0"]))
     assert np.max(nomap.trace["curve_mode_flag"]) == 0.0
     assert np.array_equal(r.trace["gear_command_index"], nomap.trace["gear_command_index"])

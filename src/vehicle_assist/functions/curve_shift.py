@@ -246,7 +246,9 @@ def step(st, meas, p, dt, t, machine_id, events, n_events):
             st.safety_accel_mps2 = interp(p.curve_shift_safety_accel_x, p.curve_shift_safety_accel_y,
                                           p.curve_shift_safety_accel_n, p.curve_shift_safety_accel_extrap,
                                           p.curve_shift_safety_accel_interp, u)
-            st.kj_frac = advance_fraction(st.lateral_accel_pred_mps2, st.tolerable_accel_mps2, st.safety_accel_mps2)
+            # the advance belongs to the strategy: with it off the window is tracked but no kj is chosen
+            st.kj_frac = advance_fraction(st.lateral_accel_pred_mps2, st.tolerable_accel_mps2,
+                                          st.safety_accel_mps2) if enabled else 0.0
             st.curvature_peak_per_m = 0.0
             st.onset_armed = 0.0
             st.implausible_time_s = 0.0
