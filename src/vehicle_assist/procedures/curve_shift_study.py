@@ -107,6 +107,8 @@ def _overlay_png(on, off, path: Path, title: str) -> Path:
 
 
 def _road_png(sc, traces: dict, path: Path, title: str) -> Path:
+    """The road from its .xodr (x-y, top) and its curvature over distance (bottom), with each run's shift points
+    (strategy 'on' circles, normal schedule 'off' crosses) marked where the TCU commanded them."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -115,26 +117,53 @@ def _road_png(sc, traces: dict, path: Path, title: str) -> Path:
     from vehicle_assist.vehicles.amt_car import road_geometry
 
     geo = road_geometry(sc)
-    fig, ax = plt.subplots(figsize=(7, 6))
+    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(9, 9), gridspec_kw={"height_ratios": [3, 2]})
+    styles = {0: ("o", "tab:blue"), 1: ("x", "tab:orange")}
+    s_end = max(float(np.max(tr["position_m"])) for tr in traces.values()) if traces else float(geo["s_m"][-1])
     if "x_m" in geo:
-        ax.plot(geo["x_m"], geo["y_m"], color="0.6", lw=3, label=f"road ({Path(geo['source']).name})")
-        for (name, tr), marker in zip(traces.items(), ("o", "x")):
-            for _, a, b, v, s in _shifts(tr):
-                x = np.interp(s, geo["s_m"], geo["x_m"])
-                y = np.interp(s, geo["s_m"], geo["y_m"])
-                ax.plot(x, y, marker, ms=8, label=None)
-                ax.annotate(f"{name}: {a}>{b} {v / KPH_TO_MPS:.0f}", (x, y), fontsize=7, xytext=(4, 4),
-                            textcoords="offset points")
+        seen = geo["s_m"] <= s_end + 20.0
+        ax.plot(geo["x_m"][seen], geo["y_m"][seen], color="0.6", lw=3, label=f"road ({Path(geo['source']).name})")
+        span_x = np.ptp(geo["x_m"][seen]) or 1.0
+        span_y = np.ptp(geo["y_m"][seen]) or 1.0
+        if max(span_x, span_y) / min(span_x, span_y) < 5.0:
+            ax.set_aspect("equal")
+        else:
+            ax.set_title("(axes not to scale)", fontsize=8, loc="right")
+        for k, (name, tr) in enumerate(traces.items()):
+            marker, color = styles[k % 2]
+            for n, (_, a, b, v, pos) in enumerate(_shifts(tr)):
+                x = np.interp(pos, geo["s_m"], geo["x_m"])
+                y = np.interp(pos, geo["s_m"], geo["y_m"])
+                ax.plot(x, y, marker, color=color, ms=8, label=name if n == 0 else None)
+                ax.annotate(f"{a}>{b} {v / KPH_TO_MPS:.0f}", (x, y), fontsize=7, color=color,
+                            xytext=(6, 8 if k == 0 else -12), textcoords="offset points")
         for c in geo["curves"]:
+            if c.start_m > s_end:
+                continue
             x = np.interp(c.start_m, geo["s_m"], geo["x_m"])
             y = np.interp(c.start_m, geo["s_m"], geo["y_m"])
             ax.plot(x, y, "k|", ms=14)
-            ax.annotate(f"curve R={c.radius_m:.0f} m", (x, y), fontsize=8, xytext=(-60, -14), textcoords="offset points")
-    ax.set_aspect("equal")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.set_title(title, fontsize=9)
-    ax.legend(fontsize=8)
+            ax.annotate(f"curve R={c.radius_m:.0f} m", (x, y), fontsize=8, xytext=(-60, -16), textcoords="offset points")
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+        ax.legend(fontsize=8)
+    seen = geo["s_m"] <= s_end + 20.0
+    ax2.plot(geo["s_m"][seen], 1000.0 * geo["curvature_per_m"][seen], color="0.4", label="road curvature")
+    top = 1000.0 * float(np.max(np.abs(geo["curvature_per_m"][seen]))) or 1.0
+    for k, (name, tr) in enumerate(traces.items()):
+        marker, color = styles[k % 2]
+        for n, (_, a, b, v, pos) in enumerate(_shifts(tr)):
+            level = top * (1.15 + 0.25 * (n % 3)) if k == 0 else -top * (0.15 + 0.25 * (n % 3))
+            ax2.axvline(pos, color=color, lw=0.6, alpha=0.6)
+            ax2.plot(pos, level, marker, color=color, label=name if n == 0 else None)
+            ax2.annotate(f"{a}>{b} {v / KPH_TO_MPS:.0f}", (pos, level), fontsize=7, color=color, xytext=(3, 2),
+                         textcoords="offset points")
+    ax2.set_ylim(-top * 0.9, top * 2.0)
+    ax2.set_xlabel("distance along the road [m]")
+    ax2.set_ylabel("curvature [1/km]")
+    ax2.grid(alpha=0.3)
+    ax2.legend(fontsize=8, loc="upper left")
+    fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=90)
