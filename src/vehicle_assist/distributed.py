@@ -247,7 +247,7 @@ class Backend:
                 result = fut.result()
             except Exception as exc:
                 if exc.__class__.__name__ == "KilledWorker":
-                    raise InputError(f"a task was lost with its worker three times ({plain(str(exc))[:160]}); "
+                    raise InputError(f"a task was lost with its worker repeatedly (distributed.scheduler.allowed-failures) ({plain(str(exc))[:160]}); "
                                      "the cluster is unstable or out of memory; run again to resume") from None
                 raise
             finally:
