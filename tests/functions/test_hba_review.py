@@ -29,7 +29,9 @@ def test_each_mode_moves_the_wheel_pressure_as_its_valve_row_says(mode):
         new = U.wheel_pressure_step(mode, p, p_src, dt, tau, rate, lim, duty, tau_d, p_lpa, g_exit, rate)
         if inlet == 0.0:
             assert new <= p + 1e-6, f"{U.MODES[mode]}: inlet closed but the wheel gained pressure ({p} -> {new})"
-        if inlet == 0.0 and outlet == 0.0:
+        if inlet == 0.0 and outlet == 0.0 and (usv_closed or p <= p_src):
+            # (with the USV open a wheel above the driver returns through the inlet's check valve: a higher driver
+            # pressure never gets in, test_hba_review_easing.py)
             assert new == pytest.approx(p), f"{U.MODES[mode]}: all closed but the pressure moved"
         if outlet == 1.0 and p > max(p_src, p_lpa) + 1e5:
             assert new < p, f"{U.MODES[mode]}: outlet open above the driver but no pressure released"

@@ -105,6 +105,8 @@ def _estimate(mode, p_est, p_src, dt, p):
         if mode == W_B:  # USV check valve: a higher driver pressure flows in through the line (tau_line), as the unit
             return max(built, p_est + (p_src - p_est) * min(dt / p.esp_unit_line_time_constant_s, 1.0))
         return built  # BP: the pulsed inlet is the bottleneck, no follow of the driver (plant/brakes/esp_unit.py)
+    if (mode == W_H or mode == W_BPM) and p_est > p_src:  # USV open: the inlet's return check valve (plant esp_unit)
+        return p_est + (p_src - p_est) * min(dt / p.esp_unit_line_time_constant_s, 1.0)
     if mode == W_BPM:
         return p_est + min(p.esp_unit_pulse_duty_frac * max(p_src - p_est, 0.0) * min(dt / p.esp_unit_line_time_constant_s, 1.0),
                            p.esp_unit_pulse_duty_frac * p.esp_unit_pump_build_rate_pa_per_s * dt)
@@ -295,6 +297,11 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                 # after an ABS dump the compensating wheel re-builds from the accumulator (not from the empty
                 # master cylinder) up to the required pressure, then holds
                 wm = W_BP if wheels[i, A_P_EST] < bst[bc.S_P_REQ] - 1.0e5 else W_HI
+            if (wm == W_H or wm == W_BPM) and wheels[i, A_P_EST] > src_i + RAMP_SETTLED_PA:
+                # a compensating wheel above the driver's pressure: with the USV open (H, BPM) the inlet's return
+                # check valve would drain it into the master cylinder (plant/brakes/esp_unit.py), so hold it with
+                # the circuit isolated (HI) - what H/BPM did before the check valve was modelled (issue #9 review)
+                wm = W_HI
         wheels[i, A_WHEEL_MODE] = wm
         src = p_mc if i < 2 else _prop(p_mc, p)
         wheels[i, A_P_EST] = _estimate(wm, wheels[i, A_P_EST], src, dt, p)

@@ -14,6 +14,7 @@ Wheel pressure (simplified model of spec 2; p_src = p_mc front, p_prop(p_mc) rea
     BPM: dp/dt = min(duty*(p_src - p)/tau_line, duty*G_pump), >= 0 (plain ABS: pulsed re-build from the master
          cylinder; assumed: the inlet pulses give the same mean gradient as the pump's BP)
     H, HI: dp/dt = 0           (HI: hold with the circuit isolated, during HBA)
+    H, BPM with p > p_src: as N (the inlet valve's return check valve; the USV is open in these rows)
     D  : dp/dt = -(p - p_LPA)/tau_dump
     T  : dp/dt = -min(G_exit, (p - p_src)/tau_line) while p > p_src, else 0 (inlet closed: no inflow; row T)
          - the ECU hands a wheel back to N once it is within 1 bar of p_src (spec 2 row T: 'then mode N')
@@ -84,6 +85,10 @@ def wheel_pressure_step(mode, p, p_src, dt, tau_line_s, source_rate, limit_pa, d
         if mode == B and p_src > p:  # USV check valve: the driver's pressure still reaches the (open) wheel
             built = max(built, follow)
         return built
+    if (mode == H or mode == BPM) and p > p_src:
+        # switching valve open: the inlet valve's return check valve lets a wheel pressure above the driver's back
+        # to the master cylinder (std: Bosch Automotive Handbook, ABS modulator), so an easing driver lowers it
+        return follow
     if mode == BPM:
         return p + min(duty_frac * max(p_src - p, 0.0) * min(dt / tau_line_s, 1.0), duty_frac * pulse_rate_pa_per_s * dt)
     if mode == HI or mode == H:
