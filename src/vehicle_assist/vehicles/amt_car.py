@@ -222,8 +222,18 @@ def simulate(p, s, noise, meas, ctl, drv, tr, events):
     p_r = 0.0
     p_l = 0.0
     p_v = 0.0
+    ctrl_left = np.int64(0)  # steps to the next sampling tick / trace row (countdowns: no k % n per step)
+    rec_left = np.int64(0)
     for k in range(n_steps + 1):
         t = k * dt
+        ctrl_now = ctrl_left == 0
+        if ctrl_now:
+            ctrl_left = ctrl_every
+        ctrl_left -= 1
+        rec_now = rec_left == 0
+        if rec_now:
+            rec_left = rec_every
+        rec_left -= 1
         signals[0] = v
         signals[1] = x
         signals[2] = w_e
@@ -234,9 +244,9 @@ def simulate(p, s, noise, meas, ctl, drv, tr, events):
                                                      override_on, override_value, fault, fault_value, actuator_fault)
         kappa = interp(s.road_curvature_x, s.road_curvature_y, s.road_curvature_n, s.road_curvature_extrap,
                        s.road_curvature_interp, x)
-        if k % ctrl_every == 0 or event_now:
+        if ctrl_now or event_now:
             if use_driver:
-                if k % ctrl_every == 0:
+                if ctrl_now:
                     n_events = curve_driver.step(drv, p, s, t, x, v, s.controller_period_s, M_DRIVER, events, n_events)
                 inputs[IN_ACCELERATOR] = drv.throttle_frac
                 inputs[IN_BRAKE_PEDAL] = drv.brake_frac
@@ -247,7 +257,7 @@ def simulate(p, s, noise, meas, ctl, drv, tr, events):
                 driver_inputs(s, t, override_on, override_value, inputs)
             steer_target = single_track.steer_for_curvature_rad(kappa, v, p.chassis_wheelbase_m,
                                                                 p.chassis_understeer_rad_per_mps2)
-        if k % ctrl_every == 0:
+        if ctrl_now:
             p_d, p_r, p_l, p_v = preview(p, s, x)
             truth[0] = v
             truth[1] = w_e
@@ -309,7 +319,7 @@ def simulate(p, s, noise, meas, ctl, drv, tr, events):
                                            p.chassis_cornering_stiffness_front_n_per_rad,
                                            p.chassis_cornering_stiffness_rear_n_per_rad, dt)
 
-        if k % rec_every == 0 and n_rec < tr.shape[0]:
+        if rec_now and n_rec < tr.shape[0]:
             row = tr[n_rec]
             row.time_s = t
             row.position_m = x

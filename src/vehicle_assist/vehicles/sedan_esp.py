@@ -247,8 +247,18 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
     valve = np.zeros(4)  # per circuit: USV closed, HSV open ; pump
     pump_on = False
 
+    ctrl_left = np.int64(0)  # steps to the next sampling tick / trace row (countdowns: no k % n per step)
+    rec_left = np.int64(0)
     for k in range(n_steps + 1):
         t = k * dt
+        ctrl_now = ctrl_left == 0
+        if ctrl_now:
+            ctrl_left = ctrl_every
+        ctrl_left -= 1
+        rec_now = rec_left == 0
+        if rec_now:
+            rec_left = rec_every
+        rec_left -= 1
         signals[0] = u
         signals[1] = dist
         signals[2] = p_mc
@@ -283,7 +293,7 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
             rw[blown] = bo.blown_radius_m(phi, r_w, p.blowout_inner_radius_m)
         bls = f_pedal > p.pedal_light_switch_force_n
 
-        if k % ctrl_every == 0:
+        if ctrl_now:
             for i in range(4):
                 truth[i] = omega[i]
             truth[4] = p_mc
@@ -391,7 +401,7 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
         a_x_new = (sum_x - f_drag - f_roll) / m if not held else 0.0
         a_y_new = sum_y / m if not held else 0.0
 
-        if k % rec_every == 0 and n_rec < tr.shape[0]:
+        if rec_now and n_rec < tr.shape[0]:
             row = tr[n_rec]
             row.time_s = t
             row.position_m = dist
