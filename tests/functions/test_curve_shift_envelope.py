@@ -79,3 +79,19 @@ def test_rtamt_prev_on_numbers_is_not_used():
     assert robustness(req, tr) == 0.0
     tr["curve_mode_held_index"] = np.zeros(5)  # never in curve mode: finite, positive
     assert robustness(req, tr) == 0.5
+
+
+def test_guard_holds_after_the_torque_interruption_on_a_downhill():
+    """Review finding (curve_shift.md 5.2 / 8 criterion 4: 'never engage a gear whose engine speed right after the
+    shift would exceed n_guard = 3800 rpm'): the guard compared the engine speed at the *command*; on a 6 deg downhill
+    the car gains speed during the 0.8 s torque interruption, and a 4->2 skip commanded at 3711 rpm engaged at
+    3838 rpm (401.9 rad/s). Reference: n_guard = 397.9 rad/s of the spec; the point was found by a grid probe of the
+    envelope (45 km/h, R = 30 m, 1 s preview latency, k = 1.0). The strategy must still downshift (P9 rule 2)."""
+    env = load_envelope("curve_shift")
+    point = dict(entry_speed=45.0, sight_distance=150.0, preview_radius_noise=0.0, preview_latency=1.0,
+                 driver_style=1.0, grade=-6.0, radius="r30", preview="ok")
+    r = va.simulate(env.scenario(point))
+    assert r.metrics["engine_speed_after_downshift_max_radps"] <= 397.9
+    assert r.metrics["kj_advance_max_frac"] == 1.0
+    g = r.trace["gear_command_index"][r.trace["curve_mode_flag"] > 0.5]
+    assert g.min() <= 3  # still downshifted from 4th in curve mode
