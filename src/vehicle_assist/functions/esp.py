@@ -76,9 +76,13 @@ ABS_LOG_CAP = 60  # ABS mode changes logged per wheel (the event buffer is share
 
 # controller state vector (named indices)
 C_V_REF, C_STARTED, C_IMPLAUSIBLE_S, C_SENSOR_LATCH, C_GMA_START, C_GMA_WHEEL, C_T, C_SENSOR_OK, C_ABS_OK, \
-    C_HBA_AVAILABLE, C_SOURCE_C1, C_SOURCE_C2 = range(12)
+    C_HBA_AVAILABLE, C_SOURCE_C1, C_SOURCE_C2, C_GMA_BLOCK = range(13)
 SRC_UNDECIDED, SRC_PUMP, SRC_DRIVER = 0.0, 1.0, 2.0  # per circuit during an assist (C_SOURCE_C1/C2)
-CTL_SIZE = 12
+CTL_SIZE = 13
+# C_GMA_BLOCK = 1 + the front wheel the blowout compensation brakes (0 none): its ABS activity is caused by the
+# compensation's own build, not by a split-mu road, so it does not start the GMA; kept after the compensation
+# ends until that wheel's ABS is OFF again (independent review of issue #10: a rejected false TPMS detection
+# while braking latched the GMA on the healthy wheel it had released, 3-10 bar for ~1 s, 1.12 m off the lane)
 # per-wheel state (rows fl, fr, rl, rr)
 A_MODE, A_BUILD_S, A_VW_PREV, A_SINCE_HD_S, A_LOGGED, A_SLIP, A_DECEL, A_REQUEST, A_WHEEL_MODE, A_P_EST = range(10)
 WHEEL_STATE_SIZE = 10
@@ -210,9 +214,18 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     wheels[2, A_REQUEST] = rear
     wheels[3, A_REQUEST] = rear
 
-    # yaw-moment build-up delay (GMA): ABS active on one front wheel only
-    act0 = wheels[0, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S
-    act1 = wheels[1, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S
+    # yaw-moment build-up delay (GMA): ABS active on one front wheel only (not the blowout compensation's wheel)
+    m_b = int(bst[bc.S_MODE])
+    tgt = int(bst[bc.S_TARGET]) if (m_b == bc.BUILD or m_b == bc.HOLD or m_b == bc.LIMITED) else -1
+    if 0 <= tgt < 2:
+        if ctl[C_GMA_BLOCK] < 0.5 and int(ctl[C_GMA_WHEEL]) == 1 - tgt:
+            ctl[C_GMA_WHEEL] = -1.0  # a GMA the compensation's wheel started is not a split-mu GMA
+        ctl[C_GMA_BLOCK] = tgt + 1.0
+    elif ctl[C_GMA_BLOCK] > 0.5 and int(wheels[int(ctl[C_GMA_BLOCK]) - 1, A_MODE]) == abs_fn.OFF:
+        ctl[C_GMA_BLOCK] = 0.0
+    blk = int(ctl[C_GMA_BLOCK]) - 1
+    act0 = wheels[0, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 0
+    act1 = wheels[1, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 1
     if act0 != act1 and ctl[C_GMA_WHEEL] < 0.0 and abs_allowed:
         ctl[C_GMA_START] = t
         ctl[C_GMA_WHEEL] = 1.0 if act0 else 0.0  # the other (high-mu) front wheel is delayed

@@ -44,7 +44,8 @@ SCENARIOS = ("blowout_lf_60kph_paper", "blowout_lf_60kph_off", "blowout_rf_60kph
              "blowout_lf_80kph_curve", "blowout_lf_60kph_low_mu", "blowout_lf_60kph_closed_loop",
              "blowout_lf_60kph_lane_keeper", "blowout_panic_stop_80kph", "blowout_false_detection_60kph",
              "blowout_false_detection_ws_only_60kph", "blowout_low_accumulator_60kph", "blowout_inlet_stuck_60kph",
-             "blowout_braking_60kph", "blowout_braking_60kph_off", "blowout_panic_stop_immediate_80kph")
+             "blowout_braking_60kph", "blowout_braking_60kph_off", "blowout_panic_stop_immediate_80kph",
+             "blowout_false_tpms_braking_60kph")
 
 
 def reproduction():
