@@ -95,3 +95,20 @@ def test_guard_holds_after_the_torque_interruption_on_a_downhill():
     assert r.metrics["kj_advance_max_frac"] == 1.0
     g = r.trace["gear_command_index"][r.trace["curve_mode_flag"] > 0.5]
     assert g.min() <= 3  # still downshifted from 4th in curve mode
+
+
+def test_known_violation_of_criterion_1_when_the_command_precedes_the_driver():
+    """Review finding, NOT fixed (docs/functions/curve_shift.md): with the driver's sight distance shorter than the
+    command distance on a steep downhill, the strategy's kj_max skip 5->3 comes while the driver still holds his speed;
+    the engine reaches the 3900 rpm release and the protection upshifts inside curve mode. Reference: criterion 1 of
+    curve_shift.md 8 (no upshift in curve mode) and the no-assist twin (engine below 3425 rpm). If this starts to
+    pass, the behaviour changed: update the docs."""
+    env = load_envelope("curve_shift")
+    point = dict(entry_speed=67.13, sight_distance=88.76, preview_radius_noise=3.921, preview_latency=0.0,
+                 driver_style=0.7852, grade=-5.731, radius="r30", preview="radius_small")
+    r = va.simulate(env.scenario(point))
+    assert {q.id: q.robustness for q in r.requirements}["curve_shift.no_upshift_in_curve_mode"] < 0
+    assert r.metrics["protection_upshifts_count"] == 1
+    twin = va.simulate(env.scenario(point, baseline=True)).trace
+    assert twin["engine_speed_radps"].max() < 3425 * 3.14159265 / 30
+    assert r.trace["engine_speed_radps"].max() < 418.879  # the hard limit n_max_dn still holds
