@@ -308,8 +308,8 @@ def test_blown_wheel_metrics_read_plant_truth(runs):
 
 def test_over_compensation_limiter(params):
     """Feed-forward mode: a trusted (two-source) detection is not released, but while the car yaws away from the
-    blown side faster than the ESP's yaw dump rate (5 deg/s) the compensating wheel is dumped, then held (no
-    re-build); this keeps a rear blowout at 100-120 km/h with a lane-following driver from diverging (0.63-1.03 m
+    blown side faster than the ESP's yaw dump rate (5 deg/s) the compensating wheel is dumped, then the request
+    is HOLD again (the ESP then re-builds it to the planned pressure, docs: independent review); this keeps a rear blowout at 100-120 km/h with a lane-following driver from diverging (0.63-1.03 m
     instead of 8-11 m; 3.2-5.7 m without compensation)."""
     e = Ecu(params).run(0.2).run(0.3, **BLOWN_LF)
     e.run(0.01, yaw=-0.1, **BLOWN_LF)

@@ -431,8 +431,10 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             elif toward < -p.esp_yaw_dump_rate_radps:
                 # over-compensation limiter (feed-forward mode): while the car yaws away from the blown side
                 # faster than the ESP's yaw dump rate (the limit it puts on any brake-induced yaw moment, 5 deg/s)
-                # the compensating wheel is dumped, then held where it is (not re-built: no closed loop); a trusted
-                # detection is not released (falsification findings). 2 deg/s (the plausibility threshold) cut
+                # the compensating wheel is dumped; once the yaw is back under the rate the request is HOLD again and
+                # the ESP's re-build rule (functions/esp.py, meant for after an ABS dump) re-builds it to S_P_REQ - it
+                # is not held where it is (independent review); a trusted detection is not released (falsification
+                # findings). 2 deg/s (the plausibility threshold) cut
                 # the needed correction after a late detection (100 km/h front, 0.2 s delay: 1.07 -> 2.35 m)
                 requests[tg] = Q_RELEASE
     return n_events
