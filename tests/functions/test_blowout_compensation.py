@@ -237,6 +237,7 @@ def test_every_machine_row_has_a_test_above():
     covered = {("IDLE", "BUILD", "blowout_detected"), ("BUILD", "HOLD", "valve_time_elapsed"),
                ("IDLE", "LIMITED", "inlet_valve_stuck"), ("BUILD", "LIMITED", "inlet_valve_stuck"),
                ("HOLD", "LIMITED", "inlet_valve_stuck"), ("HOLD", "REJECTED", "yaw_implausible"),
+               ("BUILD", "REJECTED", "yaw_implausible"),
                ("LIMITED", "REJECTED", "yaw_implausible"), ("REJECTED", "IDLE", "signature_cleared"),
                ("REJECTED", "BUILD", "blowout_detected"), ("REJECTED", "LIMITED", "inlet_valve_stuck"),
                ("HOLD", "ENDED", "vehicle_slow"), ("LIMITED", "ENDED", "vehicle_slow")}
@@ -382,3 +383,15 @@ def test_abs_released_between_4_and_5_kph_in_the_panic_stop(runs):
         rel = [float(np.interp(e.time_s, t, kph)) for e in r.events if e.reason == "abs_off"]
         assert rel, name
         assert 0.95 * 4.0 < rel[-1] <= 5.0, (name, rel[-1])
+
+
+def test_row_build_rejected(params):
+    """BUILD->REJECTED (independent review of issue #10): the yaw-plausibility check of a single-source detection
+    already runs during the build - a TPMS alarm while braking (no wheel-speed signature) and the car yawing away
+    from the presumed blown LF side at 3 deg/s (> 2 deg/s) is released before the valve time is over. Reference: the
+    plausibility rule itself (yaw away > abort_yaw_rate) and the valve time of the plan (> 2 periods here)."""
+    e = Ecu(params).run(0.2).run(0.06, tpms=1.0, braking=1.0, vw=(0.9 * V, V, V, V), p_est=(40e5, 40e5, 30e5, 30e5))
+    assert e.mode == "BUILD" and e.st[bc.S_T_VALVE] > 0.015
+    e.run(0.005, tpms=1.0, braking=1.0, vw=(0.9 * V, V, V, V), p_est=(40e5, 40e5, 30e5, 30e5), yaw=-np.radians(3.0))
+    assert e.rows[-1] == ("BUILD", "REJECTED", "yaw_implausible")
+    assert e.st[bc.S_BLOWN] == -1 and list(e.req) == [bc.Q_NONE] * 4

@@ -41,7 +41,7 @@ mu*F'_z*R/K_b (authority limited: its moment arm/brake are smaller) - limit code
 code 2 if that wheel's inlet is stuck as well (no authority). BUILD/HOLD -> LIMITED (inlet_valve_stuck): the
 same diagnosis arriving after the detection.
 BUILD -> HOLD (valve_time_elapsed).
-HOLD/LIMITED -> REJECTED (yaw_implausible), single-source detections only: the car yaws away from the
+BUILD/HOLD/LIMITED -> REJECTED (yaw_implausible), single-source detections only: the car yaws away from the
 presumed blown side by more than ``abort_yaw_rate`` (yaw rate minus the steady-state yaw rate of the measured
 steer angle, ``reference_yaw_rate``, so a curve does not count) - a false detection: the brake is released AND the blown
 latch is cleared, so the wheel is no longer held released and ABS/HBA run on all four wheels as without the
@@ -74,6 +74,7 @@ MACHINE = StateMachine("blowout_compensation", MODES, (
     Transition("BUILD", "HOLD", "valve_time_elapsed", "inlet open for t_valve (eq. 30), then hold"),
     Transition("BUILD", "LIMITED", "inlet_valve_stuck", "opposite inlet diagnosed stuck during the build: other axle, capped"),
     Transition("HOLD", "LIMITED", "inlet_valve_stuck", "opposite inlet diagnosed stuck during the hold: other axle, capped"),
+    Transition("BUILD", "REJECTED", "yaw_implausible", "as from HOLD, already during the build (independent review: 20 ms earlier on a false TPMS alarm)"),
     Transition("HOLD", "REJECTED", "yaw_implausible", "single-source detection, car yaws away from the presumed blown side: release, latch cleared"),
     Transition("LIMITED", "REJECTED", "yaw_implausible", "as from HOLD"),
     Transition("HOLD", "ENDED", "vehicle_slow", "reference speed below the minimum speed; a real blown wheel stays released"),
@@ -390,10 +391,6 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             _plan(st, b, sub, True, st[S_SLIP_EST], a_x, p_est, p)
             n_events = log_event(events, n_events, t, machine_id, mode, LIMITED, G_STUCK)
             mode = LIMITED
-        elif mode == BUILD:
-            if st[S_ELAPSED] >= st[S_T_VALVE] - 1e-9:
-                n_events = log_event(events, n_events, t, machine_id, mode, HOLD, G_VALVE_DONE)
-                mode = HOLD
         elif single and toward < -p.blowout_compensation_abort_yaw_rate_radps:
             n_events = log_event(events, n_events, t, machine_id, mode, REJECTED, G_YAW_IMPLAUSIBLE)
             mode = REJECTED
@@ -404,6 +401,10 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_CLEAR_S] = 0.0
             st[S_SUSPECT] = -1.0
             st[S_SUSPECT_S] = 0.0
+        elif mode == BUILD:
+            if st[S_ELAPSED] >= st[S_T_VALVE] - 1e-9:
+                n_events = log_event(events, n_events, t, machine_id, mode, HOLD, G_VALVE_DONE)
+                mode = HOLD
         elif v_ref < p.blowout_compensation_min_speed_mps:
             n_events = log_event(events, n_events, t, machine_id, mode, ENDED, G_SLOW)
             mode = ENDED
