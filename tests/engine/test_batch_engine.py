@@ -135,3 +135,13 @@ def test_build_variants_falls_back_when_not_exact():
     assert all(_same(x[k], y[k]) for x, y in zip(a.metrics, b.metrics) for k in y)
     with pytest.raises(Exception):
         build_variants(sc, {"vehicle.body.mass_kg": ["heavy"]})
+
+
+def test_batch_without_metrics_and_unknown_metric():
+    """``metric_names=[]`` runs the variants without metrics (the study and falsify paths ask for this); an unknown
+    metric name is still the numpy path's one-line error."""
+    sc = va.load_scenario("hsa_ev_5deg_paper", ["run.duration_s=0.5"])
+    res = simulate_batch([sc, sc], keep_channels=["speed_mps"], metric_names=[])
+    assert res.metrics == [{}, {}] and len(res.channels[0]["speed_mps"]) > 0
+    with pytest.raises(ValueError, match="unknown metric"):
+        simulate_batch([sc], metric_names=["no_such_metric"])

@@ -745,12 +745,18 @@ def compute_metrics_fast(ch: dict[str, np.ndarray], t: np.ndarray, names: Iterab
     without a twin are computed by ``fallback(names)`` (default: the numpy functions on a batch Trace)."""
     from vehicle_assist.core.trace import Trace
 
-    runs = next(iter(v.shape[0] for k, v in ch.items() if k != "time_s" and np.ndim(v) == 2))
     if names is None:
         present = {**ch, "time_s": t}
         selected = [n for n, m in METRICS.items() if all(c in present for c in m.requires)]
     else:
         selected = list(names)
+    if not selected:
+        return {}
+    runs = next(iter(v.shape[0] for k, v in ch.items() if k != "time_s" and np.ndim(v) == 2), None)
+    if runs is None:  # no channel read (not expected: every metric reads one): the numpy path says what is missing
+        from vehicle_assist.metrics.common import compute_metrics
+
+        return compute_metrics(Trace({**ch, "time_s": t}), selected)
     tw = twins()
     out: dict[str, np.ndarray] = {}
     rest: list[str] = []
