@@ -26,3 +26,13 @@ def test_too_fast_reference_ramp_is_an_invalid_reference(monkeypatch):
     res = r139.run_r139()
     assert max(res.rise_s_runs) < 1.5
     assert not _row(res)["pass"] and not res.passed
+
+
+def test_category_b_test_requires_abs_full_cycling():
+    """cite:BAS-CLAUSE (markettransfer.info/clause/test-2): Test 2 applies the pedal 'so that BAS is activated and ABS
+    is fully cycling'. With HBA the 0.6*F_ABS corridor keeps ABS fully cycling through the window; without HBA
+    (0.6*F_ABS < F_ABS) it does not, so the row can fail."""
+    res = r139.run_r139()
+    row = next(r for r in res.rows if r["quantity"].startswith("ABS fully cycling throughout"))
+    assert row["pass"] and res.window["abs_full_cycling"]
+    assert not res.baseline["abs_full_cycling"]

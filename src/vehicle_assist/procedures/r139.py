@@ -78,6 +78,11 @@ def _check_scale(forces, full_scale_n: float, what: str) -> None:
 
 
 def _full_cycling_index(tr) -> int:
+    idx = np.flatnonzero(_full_cycling_mask(tr))
+    return int(idx[0]) if idx.size else -1
+
+
+def _full_cycling_mask(tr) -> np.ndarray:
     active = np.zeros(len(tr["time_s"]), dtype=bool)
     for w in ("fl", "fr"):
         m = tr[f"abs_mode_{w}_index"]
@@ -87,8 +92,7 @@ def _full_cycling_index(tr) -> int:
         for k in hd:  # "ABS active on a wheel = a hold or dump in the last 0.3 s" (spec 4.3)
             recent |= (t >= t[k]) & (t < t[k] + 0.3)
         active = (active & recent) if w == "fr" else recent
-    idx = np.flatnonzero(active)
-    return int(idx[0]) if idx.size else -1
+    return active
 
 
 def reference_test(extra_sets: list[str] = (), rise_out: list | None = None) -> tuple[list[float], list[float]]:
@@ -140,6 +144,7 @@ def category_b_test(f_abs_n: float, hba_on: bool, extra_sets: list[str] = ()) ->
             "pedal_min_n": float(force[win].min()), "pedal_max_n": float(force[win].max()),
             "mean_decel_mps2": mean, "min_moving_decel_mps2": float(moving.min()),
             "hba_activated": bool(r.metrics.get("hba_activated_flag", 0.0) > 0.5),
+            "abs_full_cycling": bool(_full_cycling_mask(tr)[win].all()),  # throughout the evaluation window
             "hba_activation_time_s": r.metrics.get("hba_activation_time_s", float("nan")),
             "stopping_distance_m": r.metrics.get("stopping_distance_m", float("nan"))}
 
@@ -168,6 +173,10 @@ def run_r139(extra_sets: list[str] = ()) -> R139Result:
          "pass": spread < 0.03, "clause": "brake_assist.md 8 criterion 8 (repeatability of the set-up)"},
         {"quantity": "HBA activated (category B test)", "value": float(w["hba_activated"]), "unit": "-", "bound": ">= 1",
          "pass": w["hba_activated"], "clause": "UN R139 Test 2 (BAS activates), cite:BAS-CLAUSE"},
+        {"quantity": "ABS fully cycling throughout [t0 + 0.8 s, 15 km/h] (category B test)", "value": float(w["abs_full_cycling"]), "unit": "-",
+         "bound": ">= 1", "pass": w["abs_full_cycling"],
+         "clause": "UN R139 Test 2 (the quick application makes BAS activate and ABS fully cycle), cite:BAS-CLAUSE; "
+                   "full cycling = ABS active on both front wheels (spec 4.3)"},
         {"quantity": "pedal force min in [t0 + 0.8 s, 15 km/h]", "value": w["pedal_min_n"], "unit": "N",
          "bound": f">= {lo:.1f} (0.5*F_ABS)", "pass": w["pedal_min_n"] >= lo - 1e-6,
          "clause": "UN R139 Test 2 corridor, paper eq. 2 (confirmed); t0 at 20 N (paper P12)"},
