@@ -99,6 +99,40 @@ def test_skip_rule_and_overspeed_guard(p):
     assert cs.curve_target_gear(p, st0, 4, 6.0, 0.0) == 3
 
 
+def test_advance_horizon_skips_less_on_a_downhill_and_never_holds_the_normal_line(p):
+    """Advance horizon (independent review of issue #11, criterion 1): an advanced step is only made into a gear whose
+    engine speed at the curve entry, with the car accelerating as measured, stays <= n_guard = 3800 rpm. Reference:
+    closed-form kinematics v^2 = u^2 + 2*a*d with bounds on a (not the code's formula): on the counterexample's
+    5.7 deg downhill the car in neutral gains a_n ~ g*sin(5.7 deg) - resistances ~ 0.75 m/s^2; over the 150 m to the
+    curve even without engine drive 3rd would reach >= sqrt(18.65^2 + 2*0.75*150) = 23.9 m/s = 86 km/h = 4505 rpm
+    (i = 1.51, i_0 = 6, r = 0.46 m), while 4th stays below 3042 rpm even with 0.5 m/s^2 more drive. S70 on the flat
+    (a_n < 0) keeps its 5->3 skip (curve_shift.md 7), and a step at or below the normal line is never held
+    (criterion 3). The seeded defect (flag 0) takes the skip."""
+    rpm = lambda kph, i: kph / 3.6 * i * 6.0 / 0.46 * 30 / math.pi  # noqa: E731
+    assert rpm(math.sqrt((67.13 / 3.6) ** 2 + 2 * 0.75 * 150) * 3.6, 1.51) > 3800
+    assert rpm(math.sqrt((67.13 / 3.6) ** 2 + 2 * 1.25 * 150) * 3.6, 0.91) < 3800
+    st = _state(1.0)
+    st.command_distance_m = 150.0
+    st.neutral_accel_mps2 = -0.08  # S70: 5th, theta 0.2 at 70 km/h decelerates slightly on the flat
+    assert cs.curve_target_gear(p, st, 5, 70 * KPH, 0.2) == 3
+    st.neutral_accel_mps2 = 0.75
+    assert cs.curve_target_gear(p, st, 5, 67.13 * KPH, 0.25) == 4  # skip less
+    assert cs.advance_held(p, st, 5, 67.13 * KPH, 0.25)
+    p_off = p.copy()
+    p_off.curve_shift_advance_horizon_flag = 0.0
+    assert cs.curve_target_gear(p_off, st, 5, 67.13 * KPH, 0.25) == 3 and not cs.advance_held(p_off, st, 5, 67.13 * KPH, 0.25)
+    st.travelled_m = 150.0  # at the curve entry the horizon is gone: the guard alone decides (3480 rpm < 3800)
+    assert cs.curve_target_gear(p, st, 5, 67.13 * KPH, 0.25) == 3
+    st.travelled_m = 0.0
+    st.neutral_accel_mps2 = -2.0  # the driver brakes: the deferred advance comes
+    assert cs.curve_target_gear(p, st, 4, 67.13 * KPH, 0.0) == 3
+    # criterion 3: 4th at 20 km/h is below the normal 4->3 line (23.8 km/h at theta 0): 3rd even with a steep
+    # predicted gain (2nd, an advanced step above the 14.7 km/h line, would reach > 100 km/h: held)
+    st.neutral_accel_mps2 = 3.0
+    assert cs.curve_target_gear(p, st, 4, 20 * KPH, 0.0) == 3
+    assert cs.curve_target_gear(p_off, st, 4, 20 * KPH, 0.0) == 1  # defect: on down to 1st (u_max(1st) = 25.9 km/h)
+
+
 def _events(name, *sets):
     r = va.simulate(va.load_scenario(name, list(sets)))
     return r, {(e.machine, e.reason) for e in r.events}

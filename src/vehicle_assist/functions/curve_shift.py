@@ -41,6 +41,19 @@ Gear choice every period (in gear, after the dwell since the last shift):
 * CURVE: no upshift (P9 rule 1); skip downshifts (P9 rule 2): g_t drops while
   u <= min(u_dn(g_t -> g_t - 1, theta)*(1 + kj(g_t - 1)), u_max(g_t - 1)) and n_e(u, g_t - 1) <= n_guard;
   the AMT executes the whole drop as one shift.
+  Advance horizon (independent review of issue #11, criterion 1): a step made only because of the advance
+  (u above the normal line u_dn(g_t -> g_t - 1, theta)) also needs the engine speed predicted at the curve entry
+  to stay <= n_guard (100 rpm below the engine-protection release, the margin):
+  u_h = sqrt(u_eng^2 + 2*max(a_g, 0)*d), u_eng = u + max(a_n, 0)*t_shift (the over-speed guard's prediction),
+  a_g = a_n + the engine share in gear g_t - 1 at the present throttle (the car as it would accelerate in that gear
+  if the driver kept his pedal), d = commanded distance - odometry (the curve entry, where the driver must have
+  slowed down at the latest). Otherwise the loop stops there: skip less, or no advance yet; the prediction is
+  re-evaluated every period and allows the step once the driver lifts off or brakes (a_g <= 0) or the curve is
+  close. A step at or below the normal line is never held (criterion 3: never later than the normal schedule).
+  ``advance_horizon_flag = 0`` removes the rule (only to prove the regression test finds the defect).
+  Finding it fixed: 67 km/h, 5.7 deg downhill, driver sight 89 m < command distance 150 m: the kj_max skip 5->3 at
+  the command (3480 rpm, throttle 0.25) let the engine climb to the 3900 rpm release in 3rd before the driver
+  braked, and the protection upshift broke criterion 1; now 5->4 at the command and 4->3 once he brakes.
 * NORMAL: the normal schedule (functions/shift_schedule.py), one gear at a time.
 * Engine over-speed guard (always): never command a gear whose engine speed right after the shift would exceed
   n_guard (curve_shift.md 5.2). The speed at engagement is predicted from the measured speed:
@@ -96,7 +109,8 @@ STATE_DTYPE = np.dtype([(n, "f8") for n in (
     "command_speed_mps", "lateral_accel_pred_mps2", "tolerable_accel_mps2", "safety_accel_mps2", "kj_frac", "kj_ratio",
     "kj_max_ratio", "normal_downshift_speed_mps", "advanced_downshift_speed_mps", "curve_count",
     "protection_upshift_count", "command_distance_m", "curvature_peak_per_m", "onset_armed", "implausible_time_s",
-    "fallback_count", "speed_prev_mps", "accel_est_mps2", "engage_speed_gain_mps")])
+    "fallback_count", "speed_prev_mps", "accel_est_mps2", "engage_speed_gain_mps", "neutral_accel_mps2",
+    "advance_hold_count")])
 
 
 def initial_state() -> np.recarray:
@@ -172,8 +186,52 @@ def kj_ratio(p, st, lower_gear, theta):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def engine_share_accel_mps2(p, speed_mps, theta, gear):
+    """Acceleration the engine gives the car in ``gear`` at throttle theta: T_e*i*eta^(+/-1)/(r*m), with
+    T_e = theta*T_full(w) + (1 - theta)*T_mot(w) (the engine map the ECU reports: calibration data)."""
+    w = max(speed_mps, 0.0) * gear_speed_factor(p, gear)
+    t_full = interp(p.engine_full_load_torque_x, p.engine_full_load_torque_y, p.engine_full_load_torque_n,
+                    p.engine_full_load_torque_extrap, p.engine_full_load_torque_interp, w)
+    t_e = theta * t_full - (1.0 - theta) * (p.engine_friction_offset_nm + p.engine_friction_slope_nm_per_radps * w)
+    eta = p.gearbox_efficiency_frac if t_e >= 0.0 else 1.0 / p.gearbox_efficiency_frac
+    return t_e * eta * gear_speed_factor(p, gear) / p.body_mass_kg
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def curve_entry_speed_mps(p, st, lower_gear, speed_mps, theta):
+    """Speed predicted at the curve entry if the advanced downshift into ``lower_gear`` is made now (module doc:
+    advance horizon): the over-speed guard's engagement speed u_eng = u + gain, then the acceleration the car would
+    have in that gear at the present throttle, a_g = a_n + engine share in lower_gear, held over the distance
+    still to go to the curve, d = commanded distance - odometry: sqrt(u_eng^2 + 2*max(a_g, 0)*d)."""
+    u_eng = speed_mps + st.engage_speed_gain_mps
+    a_g = st.neutral_accel_mps2 + engine_share_accel_mps2(p, u_eng, theta, lower_gear)
+    d_rem = max(st.command_distance_m - st.travelled_m, 0.0)
+    return math.sqrt(u_eng * u_eng + 2.0 * max(a_g, 0.0) * d_rem)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def curve_target_gear(p, st, gear, speed_mps, theta):
-    """Skip-downshift rule of curve mode (no upshift); over-speed guard on every step down."""
+    """Skip-downshift rule of curve mode (no upshift); over-speed guard on every step down; an advanced step
+    (above the normal line) also needs the predicted curve-entry engine speed <= n_guard (advance horizon)."""
+    g_t = gear
+    while g_t > 1:
+        lower = g_t - 1
+        u_dn = downshift_speed_mps(p, g_t, theta)
+        u_adv = u_dn * (1.0 + kj_ratio(p, st, lower, theta))
+        if speed_mps <= min(u_adv, max_speed_mps(p, lower)) and \
+                (speed_mps + st.engage_speed_gain_mps) * gear_speed_factor(p, lower) <= p.curve_shift_guard_speed_radps:
+            if p.curve_shift_advance_horizon_flag > 0.5 and speed_mps > u_dn and curve_entry_speed_mps(p, st, lower, speed_mps, theta) * \
+                    gear_speed_factor(p, lower) > p.curve_shift_guard_speed_radps:
+                break  # advance horizon: skip less / defer the advance
+            g_t = lower
+        else:
+            break
+    return g_t
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def advance_held(p, st, gear, speed_mps, theta):
+    """True when the advance horizon alone keeps the gear above what the rule without it would choose."""
     g_t = gear
     while g_t > 1:
         lower = g_t - 1
@@ -183,7 +241,7 @@ def curve_target_gear(p, st, gear, speed_mps, theta):
             g_t = lower
         else:
             break
-    return g_t
+    return g_t < curve_target_gear(p, st, gear, speed_mps, theta)
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -195,12 +253,8 @@ def update_engage_speed_gain(st, p, u, theta, gear, dt):
     st.speed_prev_mps = max(u, 1e-6)
     a_n = st.accel_est_mps2
     if gear >= 1:
-        w = max(u, 0.0) * gear_speed_factor(p, gear)
-        t_full = interp(p.engine_full_load_torque_x, p.engine_full_load_torque_y, p.engine_full_load_torque_n,
-                        p.engine_full_load_torque_extrap, p.engine_full_load_torque_interp, w)
-        t_e = theta * t_full - (1.0 - theta) * (p.engine_friction_offset_nm + p.engine_friction_slope_nm_per_radps * w)
-        eta = p.gearbox_efficiency_frac if t_e >= 0.0 else 1.0 / p.gearbox_efficiency_frac
-        a_n -= t_e * eta * gear_speed_factor(p, gear) / p.body_mass_kg
+        a_n -= engine_share_accel_mps2(p, u, theta, gear)
+    st.neutral_accel_mps2 = a_n
     st.engage_speed_gain_mps = max(a_n, 0.0) * p.gearbox_shift_time_s
 
 
@@ -304,6 +358,8 @@ def step(st, meas, p, dt, t, machine_id, events, n_events):
         return n_events
     if act:
         target = curve_target_gear(p, st, gear, u, theta)
+        if advance_held(p, st, gear, u, theta):
+            st.advance_hold_count += 1.0  # TCU periods in which the advance horizon held the gear
         if target == gear and gear < int(p.gearbox_gear_count) and \
                 u * gear_speed_factor(p, gear) >= p.curve_shift_upshift_release_speed_radps:
             target = gear + 1  # engine protection: the inhibit never holds the engine above the release speed

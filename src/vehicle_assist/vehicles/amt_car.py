@@ -119,6 +119,8 @@ CHANNELS: dict[str, str] = {
                              "delay line; a number, not a flag, so that an STL robustness over it stays finite)",
     "preview_fallback_flag": "1 while the TCU has found the preview implausible and runs the normal schedule (FALLBACK)",
     "protection_upshift_count": "upshifts the engine protection released in curve mode so far (functions/curve_shift.py)",
+    "advance_hold_count": "TCU periods so far in which the advance horizon kept a higher gear than the advanced/skip "
+                          "downshift rule alone (predicted curve-entry engine speed above n_guard; functions/curve_shift.py)",
     "kj_ratio": "downshift advance kj of the line below the engaged gear (0 outside curve mode)",
     "kj_max_ratio": "kj_max of that line at the current throttle (eq. 14)",
     "kj_frac": "kj/kj_max held for the curve mode (from a_y_pred, a_ypot, a_ys)",
@@ -349,6 +351,7 @@ def simulate(p, s, noise, meas, ctl, drv, tr, events):
             row.preview_fallback_flag = 1.0 if int(ctl.mode) == curve_shift.FALLBACK else 0.0
             row.kj_ratio = ctl.kj_ratio
             row.protection_upshift_count = ctl.protection_upshift_count
+            row.advance_hold_count = ctl.advance_hold_count
             row.kj_max_ratio = ctl.kj_max_ratio
             row.kj_frac = ctl.kj_frac
             row.lateral_accel_pred_mps2 = ctl.lateral_accel_pred_mps2

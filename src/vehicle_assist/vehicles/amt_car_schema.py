@@ -85,6 +85,7 @@ class CurveShift(Strict):
     upshift_release_speed_rpm: Annotated[float, Field(gt=1000, le=10000)]
     dwell_time_s: Annotated[float, Field(ge=0, le=10)]
     fixed_kj_ratio: Annotated[float, Field(ge=-1, le=20)]
+    advance_horizon_flag: Flag
     plausibility_check_flag: Flag
     plausibility_curvature_ratio: Annotated[float, Field(gt=1.0, le=5.0)]
     plausibility_onset_frac: Annotated[float, Field(gt=0.0, lt=1.0)]
