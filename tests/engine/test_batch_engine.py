@@ -145,3 +145,68 @@ def test_batch_without_metrics_and_unknown_metric():
     assert res.metrics == [{}, {}] and len(res.channels[0]["speed_mps"]) > 0
     with pytest.raises(ValueError, match="unknown metric"):
         simulate_batch([sc], metric_names=["no_such_metric"])
+
+
+def test_fast_time_after_start_edge_cases():
+    """The one twin of ``release_after_start_s`` and ``assist_idle_after_start_s`` (metrics/fast.py
+    ``time_after_start_s``) against those two numpy metrics (reference) on hand-made EV traces that reach every
+    branch: never started, started but never released / never idle, released or idle before the start (the search
+    starts at the start), already released at the start (0 s), NaN speed and NaN pressure."""
+    from vehicle_assist.functions import hill_start_ehb as HE
+    from vehicle_assist.metrics import hill_start_ehb as HEM
+
+    n, runs = 200, 8
+    t = np.arange(n) * 0.01
+    v = np.zeros((runs, n))
+    p = np.full((runs, n), 5e5)
+    mode = np.full((runs, n), float(HE.HOLD))
+    v[1:, 50:] = 1.0                      # every run but the first starts at sample 50
+    p[2, 120:] = 0.0                      # released 0.7 s after the start
+    mode[2, 90:] = float(HE.IDLE)         # idle 0.4 s after the start
+    p[3, 10:20] = 0.0                     # released (and idle) only before the start: never after it
+    mode[3, 10:20] = float(HE.IDLE)
+    p[4, :] = 0.0                         # released and idle all along: 0 s
+    mode[4, :] = float(HE.IDLE)
+    v[5, 30] = np.nan                     # NaN speed before the start
+    p[5, 60] = np.nan
+    p[5, 61:] = HEM.RELEASED_PA           # at the threshold, not below it: never released
+    p[6, 70] = HEM.RELEASED_PA * 0.999    # just below the threshold
+    mode[6, 70] = float(HE.FOLLOW)
+    mode[6, 71] = float(HE.IDLE)
+    v[7, 50:] = HEM.START_SPEED_MPS       # at the start speed, not above it: never started
+    ch = {"speed_mps": v, "brake_pressure_pa": p, "hsa_mode_index": mode}
+    names = ["release_after_start_s", "assist_idle_after_start_s"]
+    ref = compute_metrics(Trace({**ch, "time_s": t}), names)
+    fast = compute_metrics_fast(ch, t, names, fallback=lambda names: pytest.fail(f"no twin for {names}"))
+    for k in names:
+        assert all(_same(x, y) for x, y in zip(ref[k], fast[k])), (k, ref[k], fast[k])
+    # the cases are the intended ones (so that the comparison above covers them)
+    assert np.isnan(ref["release_after_start_s"][[0, 1, 3, 5, 7]]).all()
+    assert ref["release_after_start_s"][2] == pytest.approx(0.7) and ref["release_after_start_s"][4] == 0.0
+    assert ref["assist_idle_after_start_s"][2] == pytest.approx(0.4)
+
+
+def test_chunk_runner_loads_from_the_cache_in_a_new_process():
+    """The chunk call each layout gets from ``vehicles.common.chunk_runner`` is cached like a plain function: a
+    second process loads it from the compile cache instead of compiling it again (a closure over the kernel, or the
+    kernel passed as an argument, is keyed on the dispatcher object and recompiles in every process)."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    code = (
+        "import json, numpy as np, vehicle_assist as va\n"
+        "from vehicle_assist.scenarios.runner import simulate_batch\n"
+        "from vehicle_assist.vehicles import truck_amt, ev_ehb\n"
+        "for name in ('truck_11deg_late_release', 'hsa_ev_5deg_paper'):\n"
+        "    simulate_batch([va.load_scenario(name, ['run.duration_s=0.05'])] * 2, workers=1, metric_names=[])\n"
+        "print(json.dumps({m.LAYOUT: [sum(m.simulate_many.stats.cache_hits.values()),\n"
+        "                             sum(m.simulate_many.stats.cache_misses.values())] for m in (truck_amt, ev_ehb)}))\n"
+    )
+    # the package's compile cache (NUMBA_CACHE_DIR, set by ``import vehicle_assist``); the first run fills it if cold
+    env = {**os.environ, "NUMBA_CACHE_DIR": os.environ["NUMBA_CACHE_DIR"]}
+    runs = [subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, check=True)
+            for _ in range(2)]
+    stats = json.loads(runs[1].stdout.strip().splitlines()[-1])
+    assert stats == {"truck_amt": [1, 0], "ev_ehb": [1, 0]}, stats

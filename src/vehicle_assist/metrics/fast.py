@@ -117,28 +117,28 @@ def _trapz_row(y, t, buf):
     return _pairwise(buf, 0, n - 1)
 
 
-@nb.njit(**_JIT)
-def _min(x):
+@nb.njit(**_JIT, inline="always")
+def _extreme(x, largest):
+    """``np.max`` (``largest``) or ``np.min`` of a row: the first NaN propagates. Inlined with a constant
+    ``largest``, so each use compiles to its own one-comparison loop."""
     m = x[0]
     for i in range(x.shape[0]):
         v = x[i]
         if v != v:
             return v
-        if v < m:
+        if (v > m) if largest else (v < m):
             m = v
     return m
+
+
+@nb.njit(**_JIT)
+def _min(x):
+    return _extreme(x, False)
 
 
 @nb.njit(**_JIT)
 def _max(x):
-    m = x[0]
-    for i in range(x.shape[0]):
-        v = x[i]
-        if v != v:
-            return v
-        if v > m:
-            m = v
-    return m
+    return _extreme(x, True)
 
 
 @nb.njit(**_JIT)
@@ -521,25 +521,16 @@ def _after_start(t, v, r, start_speed):
 
 
 @nb.njit(**_JIT)
-def release_after_start_s(t, v, p, start_speed, released_pa, out):
+def time_after_start_s(t, v, x, start_speed, level, equal, out):
+    """Time from the start (first sample with v > start_speed) to the first sample from there on where ``x``
+    equals ``level`` (``equal``) or is below it; NaN without a start or such a sample. The twin of
+    ``release_after_start_s`` (x = brake pressure below the released level) and ``assist_idle_after_start_s``
+    (x = assist mode equal to IDLE)."""
     for r in range(v.shape[0]):
         i0 = _after_start(t, v, r, start_speed)
         res = np.nan
         for k in range(max(i0, 0), v.shape[1]):
-            if p[r, k] < released_pa:
-                if i0 >= 0:
-                    res = t[k] - t[i0]
-                break
-        out[r] = res
-
-
-@nb.njit(**_JIT)
-def assist_idle_after_start_s(t, v, mode, start_speed, idle, out):
-    for r in range(v.shape[0]):
-        i0 = _after_start(t, v, r, start_speed)
-        res = np.nan
-        for k in range(max(i0, 0), v.shape[1]):
-            if mode[r, k] == idle:
+            if (x[r, k] == level) if equal else (x[r, k] < level):
                 if i0 >= 0:
                     res = t[k] - t[i0]
                 break
@@ -639,10 +630,10 @@ def _twins() -> dict:
         "residual_pressure_at_p2_pa": (("drive_force_n", "grade_resistance_n", "brake_pressure_pa"),
                                        _plain(residual_pressure_at_p2_pa, "drive_force_n", "grade_resistance_n",
                                               "brake_pressure_pa")),
-        "release_after_start_s": (("speed_mps", "brake_pressure_pa"), lambda ch, t, out: release_after_start_s(
-            t, ch["speed_mps"], ch["brake_pressure_pa"], HEM.START_SPEED_MPS, HEM.RELEASED_PA, out)),
-        "assist_idle_after_start_s": (("speed_mps", "hsa_mode_index"), lambda ch, t, out: assist_idle_after_start_s(
-            t, ch["speed_mps"], ch["hsa_mode_index"], HEM.START_SPEED_MPS, float(HE.IDLE), out)),
+        "release_after_start_s": (("speed_mps", "brake_pressure_pa"), lambda ch, t, out: time_after_start_s(
+            t, ch["speed_mps"], ch["brake_pressure_pa"], HEM.START_SPEED_MPS, HEM.RELEASED_PA, False, out)),
+        "assist_idle_after_start_s": (("speed_mps", "hsa_mode_index"), lambda ch, t, out: time_after_start_s(
+            t, ch["speed_mps"], ch["hsa_mode_index"], HEM.START_SPEED_MPS, float(HE.IDLE), True, out)),
         "hold_entered_flag": (("hsa_mode_index",), lambda ch, t, out: hold_entered_flag(
             t, ch["hsa_mode_index"], float(HE.HOLD), out)),
         "pressure_reapply_pa": (("hsa_mode_index", "brake_pressure_pa"), lambda ch, t, out: pressure_reapply_pa(

@@ -49,14 +49,15 @@ from vehicle_assist.plant.powertrain.engine import friction_torque_nm
 from vehicle_assist.plant.powertrain.gearbox import efficiency_factor, gear_ratio, shift_step
 from vehicle_assist.plant.sensors import sample_sensors
 from vehicle_assist.vehicles.common import (
-    EVENT_CAPACITY,
     IN_ACCELERATOR,
     IN_BRAKE_PEDAL,
     IN_GEAR_LEVER,
     apply_events,
+    countdown,
     driver_inputs,
+    event_buffers,
     road_at,
-    sensor_delay_buffers,
+    sensor_buffers,
 )
 
 LAYOUT = "amt_car"
@@ -182,20 +183,9 @@ def simulate(p, s, noise, meas, ctl, drv, tr, events):
     steer_decay = math.exp(-dt / p.curve_driver_steer_time_constant_s)
     use_driver = p.curve_driver_enabled_flag > 0.5
 
-    inputs = np.zeros(5)
-    override_on = np.zeros(5, dtype=np.bool_)
-    override_value = np.zeros(5)
-    fired = np.zeros(EVENT_CAPACITY, dtype=np.bool_)
-    due = np.zeros(EVENT_CAPACITY, dtype=np.bool_)
-    signals = np.zeros(3)
-    history, delay_ticks = sensor_delay_buffers(s, n_sens)
-    actuator_fault = np.zeros((1, 2))
-    fault = np.zeros(n_sens)
-    fault_value = np.zeros(n_sens)
-    last = np.zeros(n_sens)
-    truth = np.zeros(n_sens)
-    values = np.zeros(n_sens)
-    ok = np.zeros(n_sens)
+    inputs, override_on, override_value, fired, due, signals = event_buffers(len(EVENT_SIGNALS))
+    history, delay_ticks, actuator_fault, fault, fault_value, last, truth, values, ok = \
+        sensor_buffers(s, n_sens, len(ACTUATORS))
 
     x = s.initial_position_m
     v = s.initial_speed_mps
@@ -224,18 +214,12 @@ def simulate(p, s, noise, meas, ctl, drv, tr, events):
     p_r = 0.0
     p_l = 0.0
     p_v = 0.0
-    ctrl_left = np.int64(0)  # steps to the next sampling tick / trace row (countdowns: no k % n per step)
+    ctrl_left = np.int64(0)  # steps to the next sampling tick / trace row (countdowns)
     rec_left = np.int64(0)
     for k in range(n_steps + 1):
         t = k * dt
-        ctrl_now = ctrl_left == 0
-        if ctrl_now:
-            ctrl_left = ctrl_every
-        ctrl_left -= 1
-        rec_now = rec_left == 0
-        if rec_now:
-            rec_left = rec_every
-        rec_left -= 1
+        ctrl_now, ctrl_left = countdown(ctrl_left, ctrl_every)
+        rec_now, rec_left = countdown(rec_left, rec_every)
         signals[0] = v
         signals[1] = x
         signals[2] = w_e

@@ -5,6 +5,8 @@ threshold, and then sets a driver input, injects a sensor fault, or ends the run
 """
 from __future__ import annotations
 
+import types
+
 import numba as nb
 import numpy as np
 
@@ -56,6 +58,17 @@ def road_friction_at(s, position_m):
                   s.road_friction_interp, position_m)
 
 
+# the sampling tick and the trace row of every kernel step: a countdown, not k % n per step (a division)
+@nb.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def countdown(left, every):
+    """One step of a countdown that fires at step 0 and then every ``every`` steps: (fires now, steps left).
+    Start with ``left = np.int64(0)``."""
+    now = left == 0
+    if now:
+        left = every
+    return now, left - 1
+
+
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def due_events(s, fired, t, signals, due):
     """Mark in ``due`` the events that fire now (each fires once)."""
@@ -90,6 +103,27 @@ def sensor_delay_buffers(s, n_sensors):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def event_buffers(n_signals):
+    """Driver and scenario-event state of a run: ``(inputs, override_on, override_value, fired, due, signals)`` -
+    the driver inputs (``INPUTS`` order) and each one's event override, the fired/due flag of each event, and the
+    values of the layout's ``n_signals`` event signals."""
+    n_in = len(INPUTS)
+    return (np.zeros(n_in), np.zeros(n_in, dtype=np.bool_), np.zeros(n_in), np.zeros(EVENT_CAPACITY, dtype=np.bool_),
+            np.zeros(EVENT_CAPACITY, dtype=np.bool_), np.zeros(n_signals))
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def sensor_buffers(s, n_sensors, n_actuators):
+    """Sensor-model state of a run (plant/sensors.py ``sample_sensors``): ``(history, delay_ticks, actuator_fault,
+    fault, fault_value, last, truth, values, ok)`` - the delay ring buffer and each sensor's delay, ``(fault code,
+    value)`` per actuator (at least one row), each sensor's injected fault and its value, last good value, true
+    value, measured value and validity."""
+    history, delay_ticks = sensor_delay_buffers(s, n_sensors)
+    return (history, delay_ticks, np.zeros((max(1, n_actuators), 2)), np.zeros(n_sensors), np.zeros(n_sensors),
+            np.zeros(n_sensors), np.zeros(n_sensors), np.zeros(n_sensors), np.zeros(n_sensors))
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def apply_events(s, fired, due, t, signals, events, n_events, machine_id, override_on, override_value,
                  sensor_fault, sensor_fault_value, actuator_fault):
     """Fire the scenario events due at ``t``: driver-input overrides, sensor faults, actuator faults
@@ -116,3 +150,40 @@ def apply_events(s, fired, due, t, signals, events, n_events, machine_id, overri
             elif act == ACT_STOP:
                 stop = True
     return n_events, True, stop
+
+
+# --------------------------------------------------------------------------- batch path (the chunk call)
+def _simulate_many(p_all, s_all, idx, slot, noise, meas_all, ctl_a_all, ctl_b_all, rows, events, written):
+    """Run variants ``p_all[idx[j]]``, ``s_all[idx[j]]`` into ``rows[slot[j]]`` in one compiled call (no record
+    unboxing per run); ``written[slot[j]]`` gets each run's record count. The state records are fresh per variant.
+    Template of :func:`chunk_runner`: ``simulate`` is the layout's kernel, bound per layout."""
+    for j in range(idx.shape[0]):
+        i = idx[j]
+        n_rec, _ = simulate(p_all[i], s_all[i], noise, meas_all[j], ctl_a_all[j], ctl_b_all[j],  # noqa: F821
+                            rows[slot[j]], events)
+        written[slot[j]] = n_rec
+
+
+def chunk_runner(simulate, layout, meas_dtype, initial_state_a, initial_state_b):
+    """``(simulate_many, run_chunk)`` of a layout whose kernel is ``simulate(p, s, noise, meas, ctl_a, ctl_b, tr,
+    events)``: the compiled chunk loop and its batch interface ``run_chunk(p_all, s_all, idx, slot, noise, rows,
+    events, written)`` (fresh measurement and controller state records per variant, from ``meas_dtype`` and the
+    two controllers' ``initial_state``).
+
+    One loop for every layout, compiled per layout with its kernel bound as a global: a jitted function passed as
+    an argument, or a closure over it, is keyed in numba's cache on the dispatcher object and so recompiles in
+    every process; this copy of the template is cached as ``simulate_many_<layout>`` like any other function."""
+    fn = types.FunctionType(_simulate_many.__code__, {"simulate": simulate, "__name__": __name__},
+                            "simulate_many")
+    fn.__qualname__ = f"simulate_many_{layout}"
+    fn.__doc__ = _simulate_many.__doc__
+    simulate_many = nb.njit(cache=True, nogil=True, error_model="numpy")(fn)
+
+    def run_chunk(p_all, s_all, idx, slot, noise, rows, events, written):
+        """Batch interface: the variants ``idx`` of the packed records into trace rows ``slot`` (see
+        simulate_many)."""
+        n = len(idx)
+        return simulate_many(p_all, s_all, idx, slot, noise, np.zeros(n, dtype=meas_dtype),
+                             np.repeat(initial_state_a(), n), np.repeat(initial_state_b(), n), rows, events, written)
+
+    return simulate_many, run_chunk

@@ -38,15 +38,17 @@ from vehicle_assist.plant.powertrain.gearbox import efficiency_factor
 from vehicle_assist.plant.powertrain.motor import motor_torque_step
 from vehicle_assist.plant.sensors import sample_sensors
 from vehicle_assist.vehicles.common import (
-    EVENT_CAPACITY,
     IN_ACCELERATOR,
     IN_BRAKE_PEDAL,
     IN_GEAR_LEVER,
     apply_events,
+    chunk_runner,
+    countdown,
     driver_inputs,
+    event_buffers,
     road_at,
     road_friction_at,
-    sensor_delay_buffers,
+    sensor_buffers,
 )
 
 LAYOUT = "ev_ehb"
@@ -142,22 +144,11 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
     eta = p.motor_efficiency_frac
     k_b = p.brakes_total_gain_nm_per_pa
 
-    inputs = np.zeros(5)
-    override_on = np.zeros(5, dtype=np.bool_)
-    override_value = np.zeros(5)
-    fired = np.zeros(EVENT_CAPACITY, dtype=np.bool_)
-    due = np.zeros(EVENT_CAPACITY, dtype=np.bool_)
-    signals = np.zeros(4)
+    inputs, override_on, override_value, fired, due, signals = event_buffers(len(EVENT_SIGNALS))
     driver_inputs(s, 0.0, override_on, override_value, inputs)
 
-    history, delay_ticks = sensor_delay_buffers(s, n_sens)
-    actuator_fault = np.zeros((max(1, len(ACTUATORS)), 2))  # (fault code, value) per actuator
-    fault = np.zeros(n_sens)
-    fault_value = np.zeros(n_sens)
-    last = np.zeros(n_sens)
-    truth = np.zeros(n_sens)
-    values = np.zeros(n_sens)
-    ok = np.zeros(n_sens)
+    history, delay_ticks, actuator_fault, fault, fault_value, last, truth, values, ok = \
+        sensor_buffers(s, n_sens, len(ACTUATORS))
 
     x = s.initial_position_m
     v = s.initial_speed_mps
@@ -195,18 +186,12 @@ def simulate(p, s, noise, meas, vcu, hsa, tr, events):
 
     # the road at the start position, so that the first sensor sample reads the real grade
     slope, f_coeff = road_at(s, x)
-    ctrl_left = np.int64(0)  # steps to the next sampling tick / trace row (countdowns: no k % n per step)
+    ctrl_left = np.int64(0)  # steps to the next sampling tick / trace row (countdowns)
     rec_left = np.int64(0)
     for k in range(n_steps + 1):
         t = k * dt
-        ctrl_now = ctrl_left == 0
-        if ctrl_now:
-            ctrl_left = ctrl_every
-        ctrl_left -= 1
-        rec_now = rec_left == 0
-        if rec_now:
-            rec_left = rec_every
-        rec_left -= 1
+        ctrl_now, ctrl_left = countdown(ctrl_left, ctrl_every)
+        rec_now, rec_left = countdown(rec_left, rec_every)
         signals[0] = v
         signals[1] = x
         signals[2] = t_m
@@ -379,19 +364,5 @@ def run_kernel(p, s, noise, trace, events):
     return simulate(p, s, noise, meas, vcu, hsa, trace, events)
 
 
-@nb.njit(cache=True, nogil=True, error_model="numpy")
-def simulate_many(p_all, s_all, idx, slot, noise, meas_all, vcu_all, hsa_all, rows, events, written):
-    """Run variants ``p_all[idx[j]]``, ``s_all[idx[j]]`` into ``rows[slot[j]]`` in one compiled call (no record
-    unboxing per run); ``written[slot[j]]`` gets each run's record count. The state records are fresh per variant."""
-    for j in range(idx.shape[0]):
-        i = idx[j]
-        n_rec, _ = simulate(p_all[i], s_all[i], noise, meas_all[j], vcu_all[j], hsa_all[j], rows[slot[j]], events)
-        written[slot[j]] = n_rec
-
-
-def run_chunk(p_all, s_all, idx, slot, noise, rows, events, written):
-    """Batch interface: the variants ``idx`` of the packed records into trace rows ``slot`` (see simulate_many)."""
-    n = len(idx)
-    meas = np.zeros(n, dtype=MEAS_DTYPE)
-    return simulate_many(p_all, s_all, idx, slot, noise, meas, np.repeat(ev_vcu.initial_state(), n),
-                         np.repeat(hill_start_ehb.initial_state(), n), rows, events, written)
+# the batch path: one compiled call per chunk of variants (vehicles/common.py chunk_runner)
+simulate_many, run_chunk = chunk_runner(simulate, LAYOUT, MEAS_DTYPE, ev_vcu.initial_state, hill_start_ehb.initial_state)
