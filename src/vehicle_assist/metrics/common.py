@@ -71,6 +71,29 @@ def _out(value):
     return float(value) + 0.0 if np.ndim(value) == 0 else np.asarray(value, dtype=np.float64) + 0.0
 
 
+# row helpers of the metrics that work on (runs, samples) arrays (metrics/hill_start.py, hill_start_ehb.py)
+def channel_rows(trace: Trace, name: str) -> np.ndarray:
+    """A channel as (runs, samples) float64: one row for a single run."""
+    return np.atleast_2d(np.asarray(trace[name], dtype=np.float64))
+
+
+def per_run(values: np.ndarray, trace: Trace):
+    """One value per run: the array for a batch trace, a float for a single run (-0.0 shown as 0.0)."""
+    return values if trace.batch_size is not None else float(values[0]) + 0.0
+
+
+def first_true(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Index of the first True along the last axis, and whether there is one (per row)."""
+    return np.argmax(mask, axis=-1), mask.any(axis=-1)
+
+
+def take_rows(values: np.ndarray, index: np.ndarray) -> np.ndarray:
+    """``values[r, index[r]]`` of each row r (a single row serves every index)."""
+    if values.shape[0] == 1 and len(index) > 1:
+        values = np.broadcast_to(values, (len(index), values.shape[1]))
+    return values[np.arange(len(index)), index]
+
+
 def _integral(trace: Trace, power_name: str) -> float:
     return _out(np.trapezoid(_ch(trace, power_name), _ch(trace, "time_s"), axis=-1))
 

@@ -26,27 +26,12 @@ import numpy as np
 from vehicle_assist.core.trace import Trace
 from vehicle_assist.functions import hill_start_amt
 from vehicle_assist.metrics.common import Metric, register
+from vehicle_assist.metrics.common import channel_rows as _ch
+from vehicle_assist.metrics.common import first_true as _first
+from vehicle_assist.metrics.common import per_run as _out
+from vehicle_assist.metrics.common import take_rows as _take
 
 PHASE_TOLERANCE_FRAC = 0.005  # |F_t - F_i| within 0.5 % of F_i counts as phase 2 (assumed)
-
-
-def _ch(trace: Trace, name: str) -> np.ndarray:
-    return np.atleast_2d(np.asarray(trace[name], dtype=np.float64))
-
-
-def _out(values: np.ndarray, trace: Trace):
-    return values if trace.batch_size is not None else float(values[0]) + 0.0
-
-
-def _first(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Index of the first True along the last axis, and whether there is one (per row)."""
-    return np.argmax(mask, axis=-1), mask.any(axis=-1)
-
-
-def _take(values: np.ndarray, index: np.ndarray) -> np.ndarray:
-    if values.shape[0] == 1 and len(index) > 1:
-        values = np.broadcast_to(values, (len(index), values.shape[1]))
-    return values[np.arange(len(index)), index]
 
 
 def _time(trace: Trace) -> np.ndarray:

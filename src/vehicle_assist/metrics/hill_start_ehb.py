@@ -27,26 +27,14 @@ import numpy as np
 from vehicle_assist.core.trace import Trace
 from vehicle_assist.functions import hill_start_ehb as H
 from vehicle_assist.metrics.common import METRICS, Metric, register
+from vehicle_assist.metrics.common import channel_rows as _ch
+from vehicle_assist.metrics.common import first_true as _first
+from vehicle_assist.metrics.common import per_run as _out
+from vehicle_assist.metrics.common import take_rows as _take
 
 SETTLE_S = 0.25  # 5 x tau_ehb (hill_start_ehb.md 5, criterion 3)
 START_SPEED_MPS = 0.05  # v_start (hill_start_ehb.md 3)
 RELEASED_PA = 0.1e5  # "p < 0.1 bar" (criterion 5)
-
-
-def _ch(trace: Trace, name: str) -> np.ndarray:
-    return np.atleast_2d(np.asarray(trace[name], dtype=np.float64))
-
-
-def _out(values: np.ndarray, trace: Trace):
-    return values if trace.batch_size is not None else float(values[0]) + 0.0
-
-
-def _first(mask: np.ndarray):
-    return np.argmax(mask, axis=-1), mask.any(axis=-1)
-
-
-def _take(values: np.ndarray, index: np.ndarray) -> np.ndarray:
-    return values[np.arange(len(index)), index]
 
 
 def hold_force_ratio(trace: Trace):
@@ -73,25 +61,24 @@ def residual_pressure_at_p2_pa(trace: Trace):
     return _out(np.where(found, _take(p, i), np.nan), trace)
 
 
-def release_after_start_s(trace: Trace):
-    """Time from v > v_start to brake pressure < 0.1 bar (0 if already released; NaN if never)."""
+def _time_after_start(trace: Trace, hit: np.ndarray):
+    """Time from v > v_start to the first sample at or after it where ``hit`` holds (NaN if never, or no start)."""
     t = np.asarray(trace["time_s"], dtype=np.float64)
-    v, p = _ch(trace, "speed_mps"), _ch(trace, "brake_pressure_pa")
+    v, hit = np.broadcast_arrays(_ch(trace, "speed_mps"), hit)
     i_start, started = _first(v > START_SPEED_MPS)
     after = np.arange(v.shape[1])[None, :] >= i_start[:, None]
-    i_rel, released = _first((p < RELEASED_PA) & after)
-    return _out(np.where(started & released, t[i_rel] - t[i_start], np.nan), trace)
+    i_hit, found = _first(hit & after)
+    return _out(np.where(started & found, t[i_hit] - t[i_start], np.nan), trace)
+
+
+def release_after_start_s(trace: Trace):
+    """Time from v > v_start to brake pressure < 0.1 bar (0 if already released; NaN if never)."""
+    return _time_after_start(trace, _ch(trace, "brake_pressure_pa") < RELEASED_PA)
 
 
 def assist_idle_after_start_s(trace: Trace):
     """Time from v > v_start to the first sample at or after it with the assist in IDLE (NaN if never)."""
-    t = np.asarray(trace["time_s"], dtype=np.float64)
-    v, mode = _ch(trace, "speed_mps"), _ch(trace, "hsa_mode_index")
-    v, mode = np.broadcast_arrays(v, mode)
-    i_start, started = _first(v > START_SPEED_MPS)
-    after = np.arange(v.shape[1])[None, :] >= i_start[:, None]
-    i_idle, idle = _first((mode == H.IDLE) & after)
-    return _out(np.where(started & idle, t[i_idle] - t[i_start], np.nan), trace)
+    return _time_after_start(trace, _ch(trace, "hsa_mode_index") == H.IDLE)
 
 
 def hold_entered_flag(trace: Trace):
