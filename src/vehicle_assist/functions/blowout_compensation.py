@@ -53,6 +53,13 @@ REJECTED -> IDLE (signature_cleared): no candidate on the rejected wheel for ``d
 REJECTED -> BUILD / LIMITED: a blowout found on another wheel (same guards as from IDLE).
 HOLD/LIMITED -> ENDED (vehicle_slow): reference speed below the minimum speed: compensation over; a real blown
 wheel stays released (it is flat).
+Rear compensating wheel (``slip_limit_flag``, 0 = seeded defect; falsification of issue #10): its brake force is
+kept inside the Dugoff linear region (H >= 1, where braking does not cut its lateral force) while it carries the
+rear axle's lateral force for the steered path, ``rear_linear_limit``: the planned added pressure is capped at that
+force, and every period a measured slip above the matching slip dumps the added pressure (never below the driver's)
+and lowers the held target. A rear wheel braked into saturation (12-18 % slip, below ABS's 20 %) left the axle with
+the flat tire without lateral force and the car spun toward the blown side. Front targets are not limited (less
+front lateral force is understeer, which does not spin the car).
 Optional closed loop (``closed_loop_flag``): in HOLD, yaw toward the blown side above the deadband adds
 pulsed build on the braking wheel, yaw away from it dumps; otherwise hold.
 """
@@ -90,8 +97,8 @@ Q_NONE, Q_BUILD, Q_HOLD, Q_RELEASE, Q_PULSE = range(5)
 # state vector
 S_MODE, S_BLOWN, S_SUSPECT, S_SUSPECT_S, S_T_DET, S_M_EST, S_P_REQ, S_T_VALVE, S_ELAPSED, S_TARGET, S_SATURATED, \
     S_SLIP_EST, S_LIMIT_CODE, S_MODE_ELAPSED, S_VREF, S_STARTED, S_EXCLUDED, S_REJECTED, S_SOURCES, S_CLEAR_S, \
-    S_P_ADD, S_P_START, S_SLIP_CAP, S_SLIP_LIMITED = range(24)
-STATE_SIZE = 24
+    S_P_ADD, S_P_START, S_SLIP_CAP, S_SLIP_LIMITED, S_FZ_TARGET = range(25)
+STATE_SIZE = 25
 # detection sources (S_SOURCES): bit 1 wheel speeds, bit 2 TPMS
 SRC_WS, SRC_TPMS = 1, 2
 RISE_MARGIN_MPS2 = 2.0  # assumed: the BJ2500 cannot speed up faster than a_x,meas + 2 m/s^2 (0-100 km/h in ~14 s)
@@ -180,14 +187,38 @@ def valve_time_s(p_pa, p_max_pa, t0_s, t1_s, t2_s):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def linear_slip_limit_frac(mu, fz_n, cx_n):
+def linear_slip_limit_frac(mu, fz_n, fy_n, cx_n):
     """Largest braking slip at which a wheel stays in the Dugoff tire's linear region (H >= 1 at alpha = 0,
     spec 2.3): mu*F_z*(1 - s) = 2*C_x*s  ->  s_lin = mu*F_z/(2*C_x + mu*F_z) (derived from the tire model).
     There f(H) = 1: braking does not yet cut the wheel's lateral force (F_y = C_y*tan(alpha)/(1 - s)*f(H));
     beyond it f(H) = H*(2 - H) < 1 takes lateral force away from the axle."""
     if fz_n <= 0.0 or mu <= 0.0:
         return 0.0
-    return mu * fz_n / (2.0 * cx_n + mu * fz_n)
+    fx2 = (0.5 * mu * fz_n) ** 2 - fy_n * fy_n
+    if fx2 <= 0.0:
+        return 0.0
+    fx = math.sqrt(fx2)
+    return fx / (cx_n + fx)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def rear_linear_limit(target, fz_straight_n, a_y, p):
+    """(brake force [N], slip) up to which the rear compensating wheel ``target`` stays in the Dugoff linear
+    region while carrying the rear axle's lateral force, from the ECU's nominal data: a_y = u*r_ref(delta), the
+    lateral acceleration the measured steer angle asks for (reference_yaw_rate; the curve's, or the driver's
+    counter-steer: driver and brake then do not correct twice; the blowout's own yaw, which the compensation
+    removes, does not count - with the measured u*omega_r a rear blowout at 120 km/h lost its compensation), the wheel's load = its straight-driving load (blowout transfer included) -+ the rear lateral load transfer
+    m*a_y*h*l_f/(B_r*l) (spec eqs. 3-4), the axle's lateral force m*|a_y|*l_f/l all on the intact wheel (the flat
+    tire's is neglected: conservative), then the Dugoff H = 1 boundary (linear_slip_limit_frac)."""
+    l = p.chassis_wheelbase_m
+    l_f = p.chassis_cg_to_front_axle_m
+    m = p.body_mass_kg
+    d_fz = m * a_y * p.chassis_cg_height_m * l_f / (p.chassis_rear_track_m * l)
+    fz = fz_straight_n + (-d_fz if target == 2 else d_fz)
+    fy = m * abs(a_y) * l_f / l
+    mu = p.blowout_compensation_mu_estimate_frac
+    s_lin = linear_slip_limit_frac(mu, fz, fy, p.tires_longitudinal_stiffness_n)
+    return p.tires_longitudinal_stiffness_n * s_lin / (1.0 - s_lin), s_lin
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -272,7 +303,7 @@ def _substitute(b):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def _plan(st, b, target, limited, slip_mean, a_x, p_est, p):
+def _plan(st, b, target, limited, slip_mean, a_x, a_y, p_est, p):
     """Estimate (eqs. 13-25), added pressure (eq. 28) on top of the target's present pressure, valve time
     (eq. 30) for blown wheel b braking ``target``; capped at the lock estimate when ``limited``."""
     f0, f1, f2, f3 = ecu_loads(p, a_x)
@@ -295,7 +326,13 @@ def _plan(st, b, target, limited, slip_mean, a_x, p_est, p):
     p_add = required_pressure_pa(m_z, p.body_wheel_radius_m, half, gain) if toward_blown_side(b, m_z) > 0.0 else 0.0
     p0 = max(p_est[target], 0.0)
     gl = (g0, g1, g2, g3)
-    st[S_SLIP_CAP] = linear_slip_limit_frac(mu, gl[target], p.tires_longitudinal_stiffness_n)
+    st[S_FZ_TARGET] = gl[target]
+    if target >= 2 and p.blowout_compensation_slip_limit_flag > 0.5:
+        # rear compensating wheel: its brake force kept inside the Dugoff linear region with the lateral force the
+        # rear axle needs now (rear_linear_limit); the feed-forward pressure is capped at that force
+        fx_lin, s_lin = rear_linear_limit(target, gl[target], a_y, p)
+        st[S_SLIP_CAP] = s_lin
+        p_add = max(min(p_add, fx_lin * p.body_wheel_radius_m / gain - p0), 0.0)
     if limited:
         p_lock = mu * gl[target] * p.body_wheel_radius_m / gain
         p_add = max(min(p_add, p_lock - p0), 0.0)
@@ -323,7 +360,9 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         requests[i] = Q_NONE
     if p.blowout_compensation_enabled_flag < 0.5:
         return n_events
-    yaw_rate = yaw_rate_meas - reference_yaw_rate(steer_rad, v_ref, p)
+    r_ref = reference_yaw_rate(steer_rad, v_ref, p)
+    yaw_rate = yaw_rate_meas - r_ref
+    a_y_ref = v_ref * r_ref  # lateral acceleration the driver's steering asks for (rear_linear_limit)
     mode = int(st[S_MODE])
     rejected = int(st[S_REJECTED])
     # detection: wheel-speed signature and/or TPMS alarm (index 1..4; 0 none)
@@ -386,7 +425,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                 new = LIMITED
                 reason = G_STUCK
                 st[S_LIMIT_CODE] = LIMIT_OTHER_AXLE if inlet_ok[target] > 0.5 else LIMIT_NO_AUTHORITY
-            _plan(st, b, target, new == LIMITED, slip_mean, a_x, p_est, p)
+            _plan(st, b, target, new == LIMITED, slip_mean, a_x, a_y_ref, p_est, p)
             n_events = log_event(events, n_events, t, machine_id, mode, new, reason)
             mode = new
             st[S_MODE] = mode
@@ -400,7 +439,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             # diagnosis after the detection: re-plan on the substitute wheel (slip as at detection)
             sub = _substitute(b)
             st[S_LIMIT_CODE] = LIMIT_OTHER_AXLE if inlet_ok[sub] > 0.5 else LIMIT_NO_AUTHORITY
-            _plan(st, b, sub, True, st[S_SLIP_EST], a_x, p_est, p)
+            _plan(st, b, sub, True, st[S_SLIP_EST], a_x, a_y_ref, p_est, p)
             n_events = log_event(events, n_events, t, machine_id, mode, LIMITED, G_STUCK)
             mode = LIMITED
         elif single and toward < -p.blowout_compensation_abort_yaw_rate_radps:
@@ -458,7 +497,9 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             # needs, the rear swings out and the car spins toward the blown side (falsification seed 3: 12-18 % slip,
             # below ABS's 20 % threshold, 16.6 m vs 5.1 m without compensation)
             s_tg = (v_ref - vw[tg]) / max(v_ref, 1.0)
-            if s_tg > st[S_SLIP_CAP]:
+            _, cap = rear_linear_limit(tg, st[S_FZ_TARGET], a_y_ref, p)
+            st[S_SLIP_CAP] = cap
+            if s_tg > cap:
                 st[S_SLIP_LIMITED] = 1.0
                 st[S_P_REQ] = max(min(st[S_P_REQ], p_est[tg]), st[S_P_START])
                 requests[tg] = Q_RELEASE if p_est[tg] > st[S_P_START] + 1.0e5 else Q_HOLD
