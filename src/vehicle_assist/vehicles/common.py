@@ -172,7 +172,8 @@ def chunk_runner(simulate, layout, meas_dtype, initial_state_a, initial_state_b)
 
     One loop for every layout, compiled per layout with its kernel bound as a global: a jitted function passed as
     an argument, or a closure over it, is keyed in numba's cache on the dispatcher object and so recompiles in
-    every process; this copy of the template is cached as ``simulate_many_<layout>`` like any other function."""
+    every process; this copy of the template is cached as ``simulate_many_<layout>`` like any other function (numba
+    keys it on this file only: an edit of the kernel gets a new cache directory, vehicle_assist/_cache.py)."""
     fn = types.FunctionType(_simulate_many.__code__, {"simulate": simulate, "__name__": __name__},
                             "simulate_many")
     fn.__qualname__ = f"simulate_many_{layout}"
