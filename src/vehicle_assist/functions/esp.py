@@ -287,18 +287,35 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             elif (p_mc - wheels[i, A_P_EST] > RAMP_SETTLED_PA and wheels[i, A_SLIP] > p.esp_abs_hold_slip_frac
                   and (int(wheels[i, A_MODE]) == abs_fn.HOLD or int(wheels[i, A_MODE]) == abs_fn.DUMP)):
                 ctl[C_SOURCE_C1 + c] = SRC_DRIVER
+    # The yaw-moment limitation governs the assist too (issue #9, split-mu): once the GMA is engaged its (high-mu)
+    # front wheel keeps the driver's pressure source (row A_DRIVER: GMA pulses from the master cylinder, capped at
+    # p_mc, holds with the circuit open, so a wheel the pump lifted before drains back to p_mc through the inlet's
+    # check valve). The pump lifting it past the GMA (86 vs 60 bar at 80 km/h) raised the yaw moment the driver has
+    # to hold: 2.04 vs 1.56 m lane offset, 7.8 vs 4.9 deg heading, 229 vs 55 deg steering (hba_split_mu_80kph).
+    # Not while a wheel is known or suspected blown (blown >= 0): then the one-sided ABS activity is the blown
+    # wheel's release, not a split-mu road, and the blowout arbitration (issue #10) governs as before.
+    gma_wheel = int(ctl[C_GMA_WHEEL])
     for i in range(4):
         row = hba_mode
         src_i = p_mc if i < 2 else _prop(p_mc, p)
         if hba_mode == hba.TERMINATING and wheels[i, A_P_EST] - src_i < RAMP_SETTLED_PA:
             row = T_DONE
         elif hba_mode == hba.ACTIVE and (ctl[C_SOURCE_C1 + CIRCUIT[i]] == SRC_DRIVER or (
-                i >= 2 and ctl[C_SOURCE_C1 + CIRCUIT[i]] == SRC_UNDECIDED)):
+                i >= 2 and ctl[C_SOURCE_C1 + CIRCUIT[i]] == SRC_UNDECIDED) or (
+                i == gma_wheel and blown < 0 and p.esp_gma_hba_flag > 0.5)):
             # a rear wheel is pumped above its proportioned driver pressure only once the pump has had to lift its
             # circuit's front wheel (pumping it while the front still rebuilt below the driver put the rear into ABS
             # cycling the car without HBA does not have)
             row = A_DRIVER
         wm = ARBITRATION[row, int(wheels[i, A_REQUEST])] if abs_ok else W_N
+        if (wm == W_BP and row == hba.ACTIVE and i < 2 and ctl[C_SOURCE_C1 + CIRCUIT[i]] == SRC_UNDECIDED
+                and p_mc - wheels[i, A_P_EST] > RAMP_SETTLED_PA and blown < 0 and p.esp_hba_master_rebuild_flag > 0.5):
+            # Source still undecided and the driver's pressure above the wheel: the ABS re-build comes from the master
+            # cylinder (BPM, slowing as it nears p_mc) as without HBA; the pump takes over only at the driver's
+            # pressure. The pump's constant duty*G_pump re-build here shifted the ABS cycling and made HBA 0.11-0.15 m
+            # longer than no HBA (CMA-ES, 128.6 km/h wet, mu 0.763, 1769 kg, 98 N at 17 /s; driver 58.7 bar just
+            # above the lock pressure).
+            wm = W_BPM
         if abs_ok and blow_req[i] != bc.Q_NONE:
             wm = BLOWOUT_ARBITRATION[blow_req[i], wm]
             src_i = p_mc if i < 2 else _prop(p_mc, p)
