@@ -43,7 +43,8 @@ from vehicle_assist.scenarios.errors import InputError, did_you_mean, from_valid
 DATA = resources.files("vehicle_assist") / "data" / "envelopes"
 Source = Annotated[str, Field(min_length=3)]
 PROFILE_KINDS = ("pedal", "switch")
-PEDAL_PARAMS = {"start_s", "rate_per_s", "duration_s", "level_frac", "dip_at_frac", "dip_depth_frac", "dip_hold_s"}
+PEDAL_PARAMS = {"start_s", "rate_per_s", "duration_s", "level_frac", "dip_at_frac", "dip_depth_frac", "dip_hold_s",
+                "ease_after_s", "ease_to_frac", "ease_time_s"}
 SWITCH_PARAMS = {"at_s"}
 
 
@@ -187,10 +188,25 @@ def toml_value(value: Any) -> str:
 
 
 def pedal_table(start_s: float, level_frac: float, rate_per_s: float | None = None, duration_s: float | None = None,
-                dip_at_frac: float = 0.5, dip_depth_frac: float = 0.0, dip_hold_s: float = 0.7) -> dict:
+                dip_at_frac: float = 0.5, dip_depth_frac: float = 0.0, dip_hold_s: float = 0.7,
+                ease_after_s: float = 0.5, ease_to_frac: float = 1.0, ease_time_s: float = 0.3) -> dict:
     """Pedal travel over time: a ramp from 0 at ``start_s`` to ``level_frac`` at ``rate_per_s`` (or over
     ``duration_s``); with ``dip_depth_frac > 0`` the driver hesitates at ``dip_at_frac`` of the ramp: the
-    pedal falls by that fraction of its travel, is held ``dip_hold_s``, then the ramp resumes."""
+    pedal falls by that fraction of its travel, is held ``dip_hold_s``, then the ramp resumes. With
+    ``ease_to_frac < 1`` the driver eases off: ``ease_after_s`` after reaching the level the pedal falls linearly
+    over ``ease_time_s`` to ``ease_to_frac`` of the level (0 = released) and stays there."""
+    table = _ramp_table(start_s, level_frac, rate_per_s, duration_s, dip_at_frac, dip_depth_frac, dip_hold_s)
+    keep = min(max(float(ease_to_frac), 0.0), 1.0)
+    if keep >= 1.0:
+        return table
+    t_e = table["time_s"][-1] + max(float(ease_after_s), 0.001)
+    level = table["frac"][-1]
+    table["time_s"] += [round(t_e, 6), round(t_e + max(float(ease_time_s), 0.001), 6)]
+    table["frac"] += [level, level * keep]
+    return table
+
+
+def _ramp_table(start_s, level_frac, rate_per_s, duration_s, dip_at_frac, dip_depth_frac, dip_hold_s) -> dict:
     start_s = max(float(start_s), 0.0)
     level = min(max(float(level_frac), 0.0), 1.0)
     rate = float(rate_per_s) if rate_per_s is not None else level / max(float(duration_s), 1e-3)
