@@ -328,14 +328,19 @@ def test_rear_blowout_high_speed_follow_driver_no_worse():
     assert on["blowout_lateral_deviation_run_max_m"] < 0.5 * off["blowout_lateral_deviation_run_max_m"]
 
 
-def test_reference_yaw_rate_closed_form(params):
-    """Single-track steady state r = u*delta/(l + K u^2), K = m/l*(l_r/C_f - l_f/C_r) (BJ2500, tire_blowout.md 7:
-    m 1700 kg, l 2.576 m, l_f 1.159 m, C_f 2*50 kN/rad, C_r 2*55 kN/rad); a 650 m curve at 100 km/h needs
-    delta = (l + K u^2)/R, which gives back r = u/R."""
-    k = 1700.0 / 2.576 * (1.417 / 1.0e5 - 1.159 / 1.1e5)
-    u, radius = 100 / 3.6, 650.0
-    delta = (2.576 + k * u * u) / radius
-    assert bc.reference_yaw_rate(delta, u, params) == pytest.approx(u / radius, rel=1e-9)
+def test_reference_yaw_rate_matches_the_plant(params):
+    """Independent reference: the two-track plant in steady cornering (no blowout, the wheel held at the curve's
+    angle, 100 and 120 km/h on a 650 m curve, 60 km/h on 300 m): the ECU's expected yaw rate for the measured steer
+    angle and speed equals the plant's yaw rate within 2 % (linear range, a_y <= 1.6 m/s^2). A wrong understeer
+    gradient fails it (K = 0: +66 % at 100 km/h)."""
+    for speed, radius in ((100, 650), (120, 650), (60, 300)):
+        sc = va.load_scenario("blowout_lf_60kph_off", sets=["vehicle.blowout.wheel_index=-1", f"run.initial_speed_kph={speed}",
+                                                            f"vehicle.lane_keeper.lane_radius_m={radius}", "run.duration_s=3"])
+        tr = va.simulate(sc).trace
+        i = int(np.searchsorted(np.asarray(tr["time_s"]), 2.5))
+        u = float(np.asarray(tr["speed_mps"])[i])
+        delta = float(np.asarray(tr["steering_angle_rad"])[i])
+        assert bc.reference_yaw_rate(delta, u, params) == pytest.approx(float(np.asarray(tr["yaw_rate_radps"])[i]), rel=0.02)
 
 
 def test_curve_yaw_is_not_taken_for_over_compensation(params):
