@@ -81,3 +81,28 @@ def test_driver_just_above_the_lock_pressure_hba_not_longer(defect):
         assert longer > 0.05  # the seeded defect brings the counterexample back (0.107 m on this tree)
     else:
         assert longer <= 0.0
+
+
+def _easing_split(hba: int, defect: bool):
+    """CMA-ES seed 2026 counterexample with the easing driver: 94.8 km/h, split-mu, mu scale 0.771, 1804 kg, panic
+    123 N in 8 ms, eased to 35 N from 0.45 s over 0.3 s, held (HBA exits on the pressure drop)."""
+    sets = ["driver.brake_pedal={time_s=[0.1,0.107795,0.451686,0.751686],frac=[0,0.12273823316465388,"
+            "0.12273823316465388,0.03498157809031587]}", "run.initial_speed_kph=94.82607623381199",
+            "road.friction_mu=0.7714592165256153", 'vehicle.surface.left="dry"', 'vehicle.surface.right="snow"',
+            "run.duration_s=38.752", "vehicle.body.mass_kg=1804.0013527317465",
+            f"vehicle.brake_assist.enabled_flag={hba}"]
+    if defect:
+        sets.append("vehicle.esp.hba_rampout_pumped_only_flag=0")
+    return va.load_scenario("hba_paper_110kph_dry", sets=sets)
+
+
+@pytest.mark.parametrize("defect", [False, True])
+def test_easing_driver_on_split_mu_hba_not_longer(defect):
+    """The pump never lifted a wheel here: the ramp-out must not act on pressure the driver left by easing off."""
+    on, off = va.simulate_batch([_easing_split(1, defect), _easing_split(0, defect)]).metrics
+    assert on["hba_activated_flag"] == 1.0
+    longer = on["stopping_distance_m"] - off["stopping_distance_m"]
+    if defect:
+        assert longer > 0.02  # seeded defect: 0.047 m
+    else:
+        assert longer <= 0.0

@@ -119,6 +119,7 @@ class SedanEsp(Strict):
     yaw_dump_rate_deg_per_s: Annotated[float, Field(gt=0, le=180)]
     gma_hba_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: HBA pumps past the GMA)
     hba_master_rebuild_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: pump re-build undecided)
+    hba_rampout_pumped_only_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: ramp-out unpumped)
     reference_decel_margin_mps2: Annotated[float, Field(ge=0, le=10)]
     plausibility_time_s: Annotated[float, Field(gt=0, le=5)]
     plausibility_pressure_bar: Annotated[float, Field(gt=0, le=50)]
