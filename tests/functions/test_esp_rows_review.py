@@ -31,7 +31,16 @@ def test_rows_a_driver_and_t_done_are_used():
     assert _modes(tr, H.TERMINATING) & PLAIN, "row T_DONE never used"
     # the paper's run: the pump lifts the fronts (row ACTIVE), the rears finish their ramp-out first (T_DONE -> N)
     tr = va.simulate(va.load_scenario("hba_paper_110kph_dry")).trace
-    assert not (_modes(tr, H.ACTIVE) & {E.W_H, E.W_BPM})
+    assert not (_modes(tr, H.ACTIVE) & {E.W_H})
+    # BPM in ACTIVE only as the re-build from the master of a front wheel below the driver's pressure while its
+    # circuit's source is undecided (issue #9 third review, esp.hba_master_rebuild_flag): never above p_mc + 1 bar
+    h = tr["hba_mode_index"] == H.ACTIVE
+    for w in ("fl", "fr", "rl", "rr"):
+        bpm = h & (tr[f"wheel_mode_{w}_index"] == E.W_BPM)
+        if w in ("rl", "rr"):
+            assert not bpm.any()
+        else:
+            assert (tr[f"wheel_pressure_{w}_pa"][bpm] <= tr["master_pressure_pa"][bpm] + 1e5).all()
     assert E.W_B in _modes(tr, H.ACTIVE) and E.W_T in _modes(tr, H.TERMINATING)
     assert E.W_N in _modes(tr, H.TERMINATING)
     assert np.isfinite(tr["time_s"]).all()
