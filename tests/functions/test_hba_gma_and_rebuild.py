@@ -106,3 +106,27 @@ def test_easing_driver_on_split_mu_hba_not_longer(defect):
         assert longer > 0.02  # seeded defect: 0.047 m
     else:
         assert longer <= 0.0
+
+
+def _release_split(hba: int, defect: bool):
+    """Random seed 7 counterexample: 85 km/h, split-mu, mu scale 0.949, 1788 kg, panic 99 N in 11 ms, released at
+    1.88 s over 0.2 s (the car rolls on, steering held). The driver's falling pressure left the GMA-held high-mu
+    front above it; latching that as 'pump-served' pumped the circuit's rear wheel."""
+    sets = ["driver.brake_pedal={time_s=[0.1,0.110921,1.883317,2.083317],frac=[0,0.0985538693975539,"
+            "0.0985538693975539,0]}", "run.initial_speed_kph=85.01145599256003", "road.friction_mu=0.9486069004847877",
+            'vehicle.surface.left="dry"', 'vehicle.surface.right="snow"', "run.duration_s=40",
+            "vehicle.body.mass_kg=1787.8428451225968", f"vehicle.brake_assist.enabled_flag={hba}"]
+    if defect:
+        sets.append("vehicle.esp.hba_rampout_pumped_only_flag=0")
+    return va.load_scenario("hba_paper_110kph_dry", sets=sets)
+
+
+@pytest.mark.parametrize("defect", [False, True])
+def test_released_pedal_on_split_mu_hba_not_worse_in_path(defect):
+    on, off = va.simulate_batch([_release_split(1, defect), _release_split(0, defect)]).metrics
+    assert on["hba_activated_flag"] == 1.0
+    worse = on["lateral_deviation_max_m"] - max(0.01, off["lateral_deviation_max_m"])
+    if defect:
+        assert worse > 0.1  # seeded defect: 44.24 vs 43.64 m (the car rolls on for 38 s after the release)
+    else:
+        assert worse <= 0.0

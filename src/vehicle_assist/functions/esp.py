@@ -285,7 +285,12 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         if hba_mode != hba.ACTIVE:
             ctl[C_SOURCE_C1 + c] = SRC_UNDECIDED
         elif ctl[C_SOURCE_C1 + c] == SRC_UNDECIDED:
-            if wheels[i, A_P_EST] - p_mc > RAMP_SETTLED_PA:
+            last = int(wheels[i, A_WHEEL_MODE])
+            lifted = last == W_B or last == W_BP or p.esp_hba_rampout_pumped_only_flag < 0.5 or blown >= 0
+            # (the pump lifted it: above the driver in a pump build mode; a wheel left above an easing driver's
+            # pressure, or the GMA's wheel held at the driver's, is not pump-served - latching it made the
+            # circuit's rear pumped on split-mu with an easing driver: CMA-ES/random seed 7 counterexamples)
+            if wheels[i, A_P_EST] - p_mc > RAMP_SETTLED_PA and lifted:
                 ctl[C_SOURCE_C1 + c] = SRC_PUMP
                 ctl[C_PUMPED_C1 + c] = 1.0
             elif (p_mc - wheels[i, A_P_EST] > RAMP_SETTLED_PA and wheels[i, A_SLIP] > p.esp_abs_hold_slip_frac
