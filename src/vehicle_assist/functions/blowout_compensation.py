@@ -327,6 +327,7 @@ def _plan(st, b, target, limited, slip_mean, a_x, a_y, p_est, p):
     p0 = max(p_est[target], 0.0)
     gl = (g0, g1, g2, g3)
     st[S_FZ_TARGET] = gl[target]
+    st[S_SLIP_LIMITED] = 0.0  # a new plan (new wheel or substitute) starts unlimited
     if target >= 2 and p.blowout_compensation_slip_limit_flag > 0.5:
         # rear compensating wheel: its brake force kept inside the Dugoff linear region with the lateral force the
         # rear axle needs now (rear_linear_limit); the feed-forward pressure is capped at that force
