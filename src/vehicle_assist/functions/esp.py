@@ -323,12 +323,15 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             row = A_DRIVER
         wm = ARBITRATION[row, int(wheels[i, A_REQUEST])] if abs_ok else W_N
         if (wm == W_BP and row == hba.ACTIVE and i < 2 and ctl[C_SOURCE_C1 + CIRCUIT[i]] == SRC_UNDECIDED
-                and p_mc - wheels[i, A_P_EST] > RAMP_SETTLED_PA and blown < 0 and p.esp_hba_master_rebuild_flag > 0.5):
+                and p_mc - wheels[i, A_P_EST] > RAMP_SETTLED_PA and hst[hba.S_RATE] >= 0.0 and blown < 0
+                and p.esp_hba_master_rebuild_flag > 0.5):
             # Source still undecided and the driver's pressure above the wheel: the ABS re-build comes from the master
             # cylinder (BPM, slowing as it nears p_mc) as without HBA; the pump takes over only at the driver's
             # pressure. The pump's constant duty*G_pump re-build here shifted the ABS cycling and made HBA 0.11-0.15 m
             # longer than no HBA (CMA-ES, 128.6 km/h wet, mu 0.763, 1769 kg, 98 N at 17 /s; driver 58.7 bar just
-            # above the lock pressure).
+            # above the lock pressure). Not while the driver's pressure falls (dp_mc/dt < 0): an easing driver
+            # (UN R139 category B: eased to 0.6 F_ABS) is the assist's case - the pump keeps re-building toward
+            # the ABS level the driver's pressure is leaving (BPM there cost 0.015 m of the R139 stop).
             wm = W_BPM
         if abs_ok and blow_req[i] != bc.Q_NONE:
             wm = BLOWOUT_ARBITRATION[blow_req[i], wm]
