@@ -366,6 +366,10 @@ def comparative_robustness(req: Requirement, metrics: dict, baseline_metrics: di
     baseline does not (issue #7 item 1: never worse than no assist)."""
     rb = float(metrics.get(req.metric, float("nan")))
     rb0 = float(baseline_metrics.get(req.metric, float("nan")))
+    if math.isnan(rb0):
+        # no baseline value (e.g. the car without HBA never stops after the driver released the pedal): nothing to
+        # compare with; max(floor, nan) took the floor and scored an assisted stop of 76.9 m as 76.9 m 'worse'
+        return float("nan")
     r = max(req.rollback_floor_m, rb0) - rb
     if metrics.get("engine_stalled_flag", 0.0) >= 0.5 and baseline_metrics.get("engine_stalled_flag", 0.0) < 0.5:
         r = min(r, STALL_PENALTY)
