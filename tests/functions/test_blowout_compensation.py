@@ -96,13 +96,15 @@ class Ecu:
         self.req = np.zeros(4, dtype=np.int64)
         self.rows = []
 
-    def run(self, s, vw=(V, V, V, V), tpms=0.0, yaw=0.0, braking=0.0, inlet=(1, 1, 1, 1), p_est=(0, 0, 0, 0), a_x=0.0):
+    def run(self, s, vw=(V, V, V, V), tpms=0.0, yaw=0.0, braking=0.0, inlet=(1, 1, 1, 1), p_est=(0, 0, 0, 0), a_x=0.0,
+            a_y=0.0):
         dt = 0.005
         for _ in range(int(round(s / dt))):
             v_ref = bc.reference_step(self.st, np.array(vw, float), a_x, tpms, dt, self.p)
             n0 = self.n
             self.n = bc.blowout_step(self.st, np.array(vw, float), v_ref, braking, a_x, yaw, 0.0, tpms, np.array(inlet, float),
-                                     np.array(p_est, float), self.p, dt, self.t, 6, self.events, self.n, self.req)
+                                     np.array(p_est, float), self.p, dt, self.t, 6, self.events, self.n, self.req,
+                                     a_y)
             for k in range(n0, self.n):
                 _, _, f, to, g = self.events[k]
                 self.rows.append((bc.MODES[int(f)], bc.MODES[int(to)], bc.REASONS[int(g)]))
@@ -232,6 +234,57 @@ def test_rows_hold_and_limited_ended(params):
     assert ("LIMITED", "ENDED", "vehicle_slow") in e.rows
 
 
+# stable-region bounds, Rajamani, Vehicle Dynamics and Control (2nd ed. 2012) ch. 8, at the spec's road mu 0.8
+# (tire_blowout.md 7), written out here: |r| <= 0.85*mu*g/u, |beta| <= atan(0.02*mu*g)
+R_BOUND = 0.85 * 0.8 * 9.81 / V  # 0.400 rad/s at 60 km/h
+BETA_BOUND = np.arctan(0.02 * 0.8 * 9.81)  # 0.156 rad
+
+
+def test_row_idle_refused_beyond_yaw_bound(params):
+    """IDLE->REFUSED: at detection the yaw rate is 10 % above the bound: no plan on the opposite wheel (NONE, back
+    to the driver and ABS), the flat wheel released, reason code 3; 10 % below it, or with the refusal disabled
+    (defect), the compensation builds."""
+    e = Ecu(params).run(0.2).run(0.1, yaw=1.1 * R_BOUND, **BLOWN_LF)
+    assert e.rows[0] == ("IDLE", "REFUSED", "beyond_stable_region") and e.st[bc.S_LIMIT_CODE] == bc.LIMIT_YAW_BOUND
+    assert list(e.req) == [bc.Q_RELEASE, bc.Q_NONE, bc.Q_NONE, bc.Q_NONE]
+    assert Ecu(params).run(0.2).run(0.06, yaw=0.9 * R_BOUND, **BLOWN_LF).rows[0][1] == "BUILD"
+    d = Ecu(params, blowout_compensation_stability_refusal_flag=0.0).run(0.2).run(0.06, yaw=1.1 * R_BOUND, **BLOWN_LF)
+    assert d.rows[0][1] == "BUILD"
+
+
+def test_rows_build_limited_rejected_refused(params):
+    """BUILD/LIMITED->REFUSED when the yaw rate leaves the bound during the compensation; REJECTED->REFUSED when
+    another wheel's blowout is found beyond it."""
+    e = Ecu(params).run(0.2).run(0.055, **BLOWN_LF)
+    assert e.mode == "BUILD"
+    e.run(0.005, yaw=1.1 * R_BOUND, **BLOWN_LF)
+    assert e.rows[-1] == ("BUILD", "REFUSED", "beyond_stable_region") and e.req[1] == bc.Q_NONE
+    e = Ecu(params).run(0.2).run(0.1, inlet=(1, 0, 1, 1), **BLOWN_LF)
+    assert e.mode == "LIMITED"
+    e.run(0.005, inlet=(1, 0, 1, 1), yaw=-1.1 * R_BOUND, **BLOWN_LF)
+    assert e.rows[-1] == ("LIMITED", "REFUSED", "beyond_stable_region") and e.req[3] == bc.Q_NONE
+    e = Ecu(params, **WS_ONLY).run(0.2).run(0.3, vw=(FAST, V, V, V)).run(0.01, vw=(FAST, V, V, V), yaw=-0.05)
+    assert e.mode == "REJECTED"
+    e.run(0.1, vw=(FAST, V, V, FAST), yaw=1.1 * R_BOUND)
+    assert e.rows[-1] == ("REJECTED", "REFUSED", "beyond_stable_region") and int(e.st[bc.S_BLOWN]) == 3
+
+
+def test_row_hold_refused_by_kinematic_sideslip(params):
+    """HOLD->REFUSED on the sideslip bound: yaw 0.2 rad/s (half the yaw bound) with no lateral acceleration is
+    beta_dot = a_y/u - r = -0.2 rad/s; the integrated estimate crosses atan(0.02*mu*g) = 0.156 rad after
+    0.156/0.2 = 0.78 s (closed form), reason code 4."""
+    e = Ecu(params).run(0.2).run(0.3, **BLOWN_LF)
+    assert e.mode == "HOLD"
+    t_cross = BETA_BOUND / 0.2
+    e.run(round(t_cross - 0.03, 3), yaw=0.2, **BLOWN_LF)
+    assert e.mode == "HOLD"
+    e.run(0.06, yaw=0.2, **BLOWN_LF)
+    assert e.rows[-1] == ("HOLD", "REFUSED", "beyond_stable_region") and e.st[bc.S_LIMIT_CODE] == bc.LIMIT_SIDESLIP_BOUND
+    # a steady curve (a_y = u*r) is no sideslip: no refusal
+    c = Ecu(params).run(0.2).run(0.3, **BLOWN_LF).run(1.5, yaw=0.2, a_y=V * 0.2, **BLOWN_LF)
+    assert c.mode == "HOLD"
+
+
 def test_every_machine_row_has_a_test_above():
     """Guard: the rows named in the tests above are exactly the rows of MACHINE (a new row needs a test)."""
     covered = {("IDLE", "BUILD", "blowout_detected"), ("BUILD", "HOLD", "valve_time_elapsed"),
@@ -240,7 +293,10 @@ def test_every_machine_row_has_a_test_above():
                ("BUILD", "REJECTED", "yaw_implausible"),
                ("LIMITED", "REJECTED", "yaw_implausible"), ("REJECTED", "IDLE", "signature_cleared"),
                ("REJECTED", "BUILD", "blowout_detected"), ("REJECTED", "LIMITED", "inlet_valve_stuck"),
-               ("HOLD", "ENDED", "vehicle_slow"), ("LIMITED", "ENDED", "vehicle_slow")}
+               ("HOLD", "ENDED", "vehicle_slow"), ("LIMITED", "ENDED", "vehicle_slow"),
+               ("IDLE", "REFUSED", "beyond_stable_region"), ("REJECTED", "REFUSED", "beyond_stable_region"),
+               ("BUILD", "REFUSED", "beyond_stable_region"), ("HOLD", "REFUSED", "beyond_stable_region"),
+               ("LIMITED", "REFUSED", "beyond_stable_region")}
     assert {(t.source, t.target, t.guard) for t in bc.MACHINE.transitions} == covered
 
 

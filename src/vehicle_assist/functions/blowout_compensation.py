@@ -73,8 +73,8 @@ import numpy as np
 from vehicle_assist.core.fsm import StateMachine, Transition, log_event
 from vehicle_assist.plant.tires.blowout import OPPOSITE, redistributed_loads, transfer_n
 
-IDLE, BUILD, HOLD, LIMITED, REJECTED, ENDED = range(6)
-MODES = ("IDLE", "BUILD", "HOLD", "LIMITED", "REJECTED", "ENDED")
+IDLE, BUILD, HOLD, LIMITED, REJECTED, ENDED, REFUSED = range(7)
+MODES = ("IDLE", "BUILD", "HOLD", "LIMITED", "REJECTED", "ENDED", "REFUSED")
 MACHINE = StateMachine("blowout_compensation", MODES, (
     Transition("IDLE", "BUILD", "blowout_detected", "wheel speed and/or TPMS name a blown wheel for detection_delay_s"),
     Transition("IDLE", "LIMITED", "inlet_valve_stuck", "opposite wheel's inlet diagnosed stuck closed: same-side other axle, capped"),
@@ -89,22 +89,32 @@ MACHINE = StateMachine("blowout_compensation", MODES, (
     Transition("REJECTED", "IDLE", "signature_cleared", "no candidate on the rejected wheel for detection_delay_s"),
     Transition("REJECTED", "BUILD", "blowout_detected", "a blowout found on another wheel"),
     Transition("REJECTED", "LIMITED", "inlet_valve_stuck", "a blowout found on another wheel, its opposite inlet stuck"),
+    Transition("IDLE", "REFUSED", "beyond_stable_region", "at detection the car is already beyond the stable region "
+               "(stability_bounds): no feed-forward, the blown wheel released, the others the driver's and ABS's"),
+    Transition("REJECTED", "REFUSED", "beyond_stable_region", "as from IDLE"),
+    Transition("BUILD", "REFUSED", "beyond_stable_region", "the car leaves the stable region during the build: stand down"),
+    Transition("HOLD", "REFUSED", "beyond_stable_region", "as from BUILD"),
+    Transition("LIMITED", "REFUSED", "beyond_stable_region", "as from BUILD"),
 ))
-G_DETECTED, G_STUCK, G_VALVE_DONE, G_YAW_IMPLAUSIBLE, G_SLOW, G_CLEARED = range(6)
+G_DETECTED, G_STUCK, G_VALVE_DONE, G_YAW_IMPLAUSIBLE, G_SLOW, G_CLEARED, G_UNSTABLE = range(7)
 REASONS = MACHINE.guards
 # per-wheel requests to the ESP arbitration
 Q_NONE, Q_BUILD, Q_HOLD, Q_RELEASE, Q_PULSE = range(5)
 # state vector
 S_MODE, S_BLOWN, S_SUSPECT, S_SUSPECT_S, S_T_DET, S_M_EST, S_P_REQ, S_T_VALVE, S_ELAPSED, S_TARGET, S_SATURATED, \
     S_SLIP_EST, S_LIMIT_CODE, S_MODE_ELAPSED, S_VREF, S_STARTED, S_EXCLUDED, S_REJECTED, S_SOURCES, S_CLEAR_S, \
-    S_P_ADD, S_P_START, S_SLIP_CAP, S_SLIP_LIMITED, S_FZ_TARGET = range(25)
-STATE_SIZE = 25
+    S_P_ADD, S_P_START, S_SLIP_CAP, S_SLIP_LIMITED, S_FZ_TARGET, S_BETA_EST = range(26)
+STATE_SIZE = 26
 # detection sources (S_SOURCES): bit 1 wheel speeds, bit 2 TPMS
 SRC_WS, SRC_TPMS = 1, 2
 RISE_MARGIN_MPS2 = 2.0  # assumed: the BJ2500 cannot speed up faster than a_x,meas + 2 m/s^2 (0-100 km/h in ~14 s)
-LIMIT_NONE, LIMIT_OTHER_AXLE, LIMIT_NO_AUTHORITY = 0, 1, 2
+LIMIT_NONE, LIMIT_OTHER_AXLE, LIMIT_NO_AUTHORITY, LIMIT_YAW_BOUND, LIMIT_SIDESLIP_BOUND = 0, 1, 2, 3, 4
 LIMIT_REASONS = ("none", "opposite inlet valve stuck closed: other-axle wheel of the same side, capped at its lock pressure",
-                 "opposite inlet valve and its substitute stuck closed: no braking authority")
+                 "opposite inlet valve and its substitute stuck closed: no braking authority",
+                 "refused: yaw rate above the stable bound 0.85*mu*g/u (Rajamani 2012, 8.x)",
+                 "refused: sideslip estimate above the stable bound atan(0.02*mu*g) (Rajamani 2012, 8.x)")
+YAW_BOUND_FRAC = 0.85  # Rajamani, Vehicle Dynamics and Control (2nd ed. 2012), ch. 8 yaw control: |r| <= 0.85*mu*g/u
+SIDESLIP_BOUND_S2_PER_M = 0.02  # same source: beta_max = atan(0.02*mu*g)
 
 
 def initial_state() -> np.ndarray:
@@ -248,6 +258,33 @@ def reference_yaw_rate(steer_rad, speed_mps, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def stability_bounds(mu, speed_mps):
+    """(yaw-rate bound [rad/s], sideslip bound [rad]) of the stable region (Rajamani, Vehicle Dynamics and Control,
+    2nd ed. 2012, ch. 8 yaw control - the bounds widely used in ESP literature): |r| <= 0.85*mu*g/u (the yaw rate
+    the road friction can carry: u*r <= mu*g, 15 % margin), |beta| <= atan(0.02*mu*g)."""
+    g = 9.81
+    return YAW_BOUND_FRAC * mu * g / max(speed_mps, 1.0), math.atan(SIDESLIP_BOUND_S2_PER_M * mu * g)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def unstable_code(yaw_rate_meas, beta_est, speed_mps, p):
+    """Refusal code (LIMIT_YAW_BOUND / LIMIT_SIDESLIP_BOUND, LIMIT_NONE inside) of the measured yaw rate and the
+    kinematic sideslip estimate against ``stability_bounds`` at the ECU's nominal friction mu_estimate_frac: the
+    highest friction the ECU assumes (tire_blowout.md 7, cement road 0.8), so the bounds are the loosest of the
+    envelope's roads and a refusal means beyond the stable region even on the best road. (The measured |a_y|/g is
+    only the friction in use, a lower bound of the road's: with it every steady curve, u*r = a_y, would exceed
+    0.85*a_y/u.)"""
+    if p.blowout_compensation_stability_refusal_flag < 0.5:
+        return LIMIT_NONE
+    r_max, beta_max = stability_bounds(p.blowout_compensation_mu_estimate_frac, speed_mps)
+    if abs(yaw_rate_meas) > r_max:
+        return LIMIT_YAW_BOUND
+    if abs(beta_est) > beta_max:
+        return LIMIT_SIDESLIP_BOUND
+    return LIMIT_NONE
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def excluded_wheel(st):
     """Wheel the reference speed ignores: the detected blown wheel, else the one the TPMS named (-1 none)."""
     return int(st[S_EXCLUDED])
@@ -353,10 +390,11 @@ def _plan(st, b, target, limited, slip_mean, a_x, a_y, p_est, p):
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_wheel, inlet_ok, p_est, p, dt, t,
-                 machine_id, events, n_events, requests):
+                 machine_id, events, n_events, requests, a_y_meas=0.0):
     """One ESP period of the compensation (after ``reference_step``); fills ``requests[4]`` (Q_*);
     ``braking`` = brake-light switch; ``p_est`` = the ECU's wheel-pressure estimates; the yaw rate is judged
-    relative to ``reference_yaw_rate`` of the measured steer angle; returns n_events."""
+    relative to ``reference_yaw_rate`` of the measured steer angle; ``a_y_meas`` = measured lateral acceleration
+    (kinematic sideslip estimate beta_dot = a_y/u - r, integrated from the detection); returns n_events."""
     for i in range(4):
         requests[i] = Q_NONE
     if p.blowout_compensation_enabled_flag < 0.5:
@@ -427,6 +465,14 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                 reason = G_STUCK
                 st[S_LIMIT_CODE] = LIMIT_OTHER_AXLE if inlet_ok[target] > 0.5 else LIMIT_NO_AUTHORITY
             _plan(st, b, target, new == LIMITED, slip_mean, a_x, a_y_ref, p_est, p)
+            st[S_BETA_EST] = 0.0  # kinematic sideslip estimate, integrated from the detection
+            code = unstable_code(yaw_rate_meas, 0.0, v_ref, p)
+            if code != LIMIT_NONE:
+                # already beyond the stable region: the feed-forward cannot help (refusal, reason in the limit code)
+                new = REFUSED
+                reason = G_UNSTABLE
+                st[S_LIMIT_CODE] = code
+                st[S_TARGET] = -1.0
             n_events = log_event(events, n_events, t, machine_id, mode, new, reason)
             mode = new
             st[S_MODE] = mode
@@ -436,6 +482,9 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         tg = int(st[S_TARGET])
         toward = toward_blown_side(b, yaw_rate)  # yaw toward the blown side +
         single = st[S_SOURCES] < SRC_WS + SRC_TPMS - 0.5
+        if v_ref > 1.0:
+            st[S_BETA_EST] += (a_y_meas / v_ref - yaw_rate_meas) * dt  # beta_dot = a_y/u - r (kinematic)
+        code = unstable_code(yaw_rate_meas, st[S_BETA_EST], v_ref, p)
         if (mode == BUILD or mode == HOLD) and inlet_ok[tg] < 0.5:
             # diagnosis after the detection: re-plan on the substitute wheel (slip as at detection)
             sub = _substitute(b)
@@ -453,6 +502,13 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_CLEAR_S] = 0.0
             st[S_SUSPECT] = -1.0
             st[S_SUSPECT_S] = 0.0
+        elif code != LIMIT_NONE:
+            # the car has left the stable region: the feed-forward stands down (the target wheel back to the driver's
+            # pressure and ABS, Q_NONE); the blown wheel stays released as in ENDED (it is flat)
+            n_events = log_event(events, n_events, t, machine_id, mode, REFUSED, G_UNSTABLE)
+            mode = REFUSED
+            st[S_LIMIT_CODE] = code
+            st[S_TARGET] = -1.0
         elif mode == BUILD:
             if st[S_ELAPSED] >= st[S_T_VALVE] - 1e-9:
                 n_events = log_event(events, n_events, t, machine_id, mode, HOLD, G_VALVE_DONE)

@@ -270,7 +270,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     p_est = wheels[:, A_P_EST].copy()
     n_events = bc.blowout_step(bst, vw_arr, v_ref_intact, 1.0 if bls else 0.0, meas.longitudinal_accel_mps2,
                                meas.yaw_rate_radps, meas.steering_angle_rad, tpms, inlet_ok, p_est, p, dt, t, m_blow,
-                               events, n_events, blow_req)
+                               events, n_events, blow_req, meas.lateral_accel_mps2)
 
     # arbitration and the ECU's pressure estimate
     # Per circuit, during an assist, which pressure source serves it is decided once by the front wheel (latched):
