@@ -63,6 +63,22 @@ def test_comparative_requirement_uses_stopping_distance_and_the_hba_off_twin():
     assert comparative_robustness(req, on, off) > 0.5
     # swapped (the assisted run longer than its twin) -> negative: the requirement can fail
     assert comparative_robustness(req, off, on) < -0.5
+    # the twin never stopped (driver released): no comparison (NaN), not the floor minus the assisted distance
+    # (before: an HBA stop of 76.9 m scored -76.9 m against a no-HBA car that rolled on; random seed 3)
+    assert math.isnan(comparative_robustness(req, {"stopping_distance_m": 76.9}, {"stopping_distance_m": math.nan}))
+
+
+def test_path_and_steering_rows_compare_with_the_hba_off_twin():
+    reqs = load_requirement_file("brake_assist")
+    for rid, metric in (("no_worse_lateral_offset", "lateral_deviation_max_m"), ("no_worse_heading", "heading_max_deg"),
+                        ("no_worse_steering_effort", "steering_correction_max_deg")):
+        req = reqs[f"brake_assist.{rid}"]
+        assert req.comparative and req.metric == metric
+        # split-mu before the fix (issue #9): 2.04 m / 7.8 deg / 229 deg with HBA vs 1.56 m / 4.9 deg / 55 deg without
+        before = {"lateral_deviation_max_m": 2.04, "heading_max_deg": 7.8, "steering_correction_max_deg": 229.0}
+        twin = {"lateral_deviation_max_m": 1.56, "heading_max_deg": 4.9, "steering_correction_max_deg": 55.0}
+        assert comparative_robustness(req, before, twin) < 0
+        assert comparative_robustness(req, twin, twin) >= 0
 
 
 def test_restricted_normal_driver_envelope_stays_below_the_rate_threshold():
