@@ -225,7 +225,10 @@ def rear_linear_limit(target, fz_straight_n, a_y, p):
     m = p.body_mass_kg
     d_fz = m * a_y * p.chassis_cg_height_m * l_f / (p.chassis_rear_track_m * l)
     fz = fz_straight_n + (-d_fz if target == 2 else d_fz)
-    fy = m * abs(a_y) * l_f / l
+    # the axle's lateral force shared by the two rear tires at their common slip angle in proportion to their
+    # cornering stiffness (linear region, F_y = C_y*alpha): intact C_y, blown k_Cy*C_y (tire_blowout.md 7, the ECU's
+    # nominal blown-tire data) -> the intact wheel carries 1/(1 + k_Cy) of it
+    fy = m * abs(a_y) * l_f / l / (1.0 + p.blowout_cornering_stiffness_frac)
     mu = p.blowout_compensation_mu_estimate_frac
     s_lin = linear_slip_limit_frac(mu, fz, fy, p.tires_longitudinal_stiffness_n)
     return p.tires_longitudinal_stiffness_n * s_lin / (1.0 - s_lin), s_lin
