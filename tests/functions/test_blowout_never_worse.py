@@ -47,3 +47,47 @@ def test_former_counterexample_no_worse(case):
 def test_former_counterexample_fails_with_the_defect(case):
     """Negative control: with the seeded defect the same point is a counterexample again."""
     assert case["defect"] > case["off"]
+
+
+# Points where the car is already at or beyond the stable region when the blowout is found (issue #10 round 2):
+# the compensation must refuse (REFUSED, Rajamani 2012 ch. 8 bounds, functions/blowout_compensation.py) and then
+# be no worse than none. (name, speed, mu scale, delay, wheel, driver, radius) as found before the refusal.
+REFUSAL_CASES = [
+    ("random_seed3_r650", 108.07208996733212, 0.3648911275496011, 0.48289170602925424, 2, "follow", 650),
+    ("cma_seed2026_r1000", 119.6, 0.3197, 0.4246, 2, "follow", 1000),
+]
+
+
+def _run(name, sets):
+    return va.simulate(va.load_scenario(name, sets=sets))
+
+
+@pytest.fixture(scope="module", params=REFUSAL_CASES, ids=[c[0] for c in REFUSAL_CASES])
+def refusal_case(request):
+    sets = _sets(*request.param[1:])
+    return {"on": _run(BASE_ON, sets), "off": _run(BASE_OFF, sets),
+            "defect": _run(BASE_ON, sets + ["vehicle.blowout_compensation.stability_refusal_flag=0"])}
+
+
+def test_refusal_fires_beyond_the_stable_region(refusal_case):
+    """The compensation stands down (mode REFUSED, reason code 3 = yaw rate above 0.85*mu*g/u) and the opposite
+    rear wheel carries no added pressure afterwards; with the refusal disabled (defect) it never refuses."""
+    from vehicle_assist.functions import blowout_compensation as bc
+
+    on = refusal_case["on"]
+    mode = on.trace["blowout_mode_index"]
+    assert (mode == bc.REFUSED).any() and on.metrics["blowout_limit_code"] in (bc.LIMIT_YAW_BOUND, bc.LIMIT_SIDESLIP_BOUND)
+    assert any(e.reason == "beyond_stable_region" for e in on.events)
+    assert not (refusal_case["defect"].trace["blowout_mode_index"] == bc.REFUSED).any()
+
+
+def test_refusal_much_less_worse_than_the_defect(refusal_case):
+    """Negative control: without the refusal the point is a clear counterexample (>1 m worse than none)."""
+    assert refusal_case["defect"].metrics[METRIC] > refusal_case["off"].metrics[METRIC] + 1.0
+
+
+@pytest.mark.xfail(strict=True, reason="honest FAIL (issue #10 round 2): the yaw bound is crossed 30-40 ms after "
+                   "the detection; that short build leaves the spinning car 0.07-0.10 m of ~10-11 m farther off than "
+                   "none (the plant's stop freeze at u = 0 adds to it); see docs/functions/tire_blowout.md")
+def test_refusal_point_no_worse(refusal_case):
+    assert refusal_case["on"].metrics[METRIC] <= refusal_case["off"].metrics[METRIC]
