@@ -40,7 +40,7 @@ DENSE_GRIDS = {
 CAMPAIGN_SEED = 2026
 CAMPAIGN_BUDGET = 128
 CAMPAIGN_BATCH = 8
-CAMPAIGN_BUDGET_OF = {"002": 64}  # 5 campaigns of 20-s braking runs: 64 each keeps reproduce within minutes
+CAMPAIGN_BUDGET_OF = {"002": 64}  # 9 campaigns of 20-s braking runs: 64 each keeps reproduce within minutes
 CAMPAIGNS = {
     "000": ("hill_start_amt", [("hill_start_amt.no_worse_than_no_assist", {}), ("hill_start_amt.no_rollback", {}),
                                ("hill_start_amt.no_stall", {})]),
@@ -58,7 +58,12 @@ CAMPAIGNS = {
                              ("brake_assist.no_false_activation", {"brake.rate_per_s": (0.027, 3.1),
                                                                    "brake.level_frac": (0.04, 0.25)}),
                              # ... and any driver below V_ON = 15 km/h (paper 002 P10, brake_assist.md 7 S3)
-                             ("brake_assist.no_false_activation", {"speed": (10.0, 14.9)})]),
+                             ("brake_assist.no_false_activation", {"speed": (10.0, 14.9)}),
+                             # issue #9 third review: never worse than the HBA-off twin in path and steering either,
+                             # and the recalled R13-H split-surface steering limits (clause not confirmed)
+                             ("brake_assist.no_worse_lateral_offset", {}), ("brake_assist.no_worse_heading", {}),
+                             ("brake_assist.no_worse_steering_effort", {}),
+                             ("brake_assist.split_surface_steering_correction", {"surface": ["split"]})]),
 }
 PAPER_OF = {"hill_start_amt": "000", "hill_start_ehb": "001", "brake_assist": "002"}
 BRAKE_STUDY_POINTS = 64  # Sobol points of the 002 envelope study in reproduce (each with its HBA-off twin)
