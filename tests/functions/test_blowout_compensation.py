@@ -456,3 +456,33 @@ def test_row_build_rejected(params):
     e.run(0.005, tpms=1.0, braking=1.0, vw=(0.9 * V, V, V, V), p_est=(40e5, 40e5, 30e5, 30e5), yaw=-np.radians(3.0))
     assert e.rows[-1] == ("BUILD", "REJECTED", "yaw_implausible")
     assert e.st[bc.S_BLOWN] == -1 and list(e.req) == [bc.Q_NONE] * 4
+
+
+def test_rear_slip_limit_is_where_braking_starts_to_cut_lateral_force():
+    """Issue #10 round 2: the rear compensating wheel's slip limit is the slip where braking starts to take lateral
+    force away (checked on the plant's own Dugoff tire, plant/tires/dugoff.py, spec 2.3): at a small slip angle
+    F_y(s*) = F_y(0) (break-even), more slip gives less, less slip not less. Spec 7 data: mu 0.8, C_x 60 kN,
+    C_y 55 kN/rad, rear wheel load 4641 N. The former limit H = 1 (s = mu*F_z/(2*C_x + mu*F_z) = 3.0 %) lies
+    inside; F_y = 0 when the lateral force alone already uses mu*F_z/2."""
+    from vehicle_assist.plant.tires.dugoff import dugoff_forces
+
+    mu, fz, cx, cy, tan_a = 0.8, 4641.0, 60e3, 55e3, 1e-4
+    s_star = bc.linear_slip_limit_frac(mu, fz, 0.0, cx)
+    fy0 = dugoff_forces(0.0, tan_a, fz, mu, cx, cy)[1]
+    assert dugoff_forces(s_star, tan_a, fz, mu, cx, cy)[1] == pytest.approx(fy0, rel=2e-3)
+    assert dugoff_forces(s_star + 0.003, tan_a, fz, mu, cx, cy)[1] < 0.99 * fy0
+    assert dugoff_forces(s_star - 0.003, tan_a, fz, mu, cx, cy)[1] >= fy0
+    assert s_star > mu * fz / (2 * cx + mu * fz)
+    assert bc.linear_slip_limit_frac(mu, fz, 1000.0, cx) < s_star
+    assert bc.linear_slip_limit_frac(mu, fz, 0.5 * mu * fz, cx) == 0.0
+
+
+def test_rear_limit_force_is_the_dugoff_brake_force_at_the_slip_limit(params):
+    """rear_linear_limit on a straight road (a_y = 0) returns the plant Dugoff tire's brake force at its slip."""
+    from vehicle_assist.plant.tires.dugoff import dugoff_forces
+
+    fz = 4641.0
+    fx, s = bc.rear_linear_limit(3, fz, 0.0, params)
+    ref = dugoff_forces(s, 0.0, fz, params.blowout_compensation_mu_estimate_frac, params.tires_longitudinal_stiffness_n,
+                        params.tires_cornering_stiffness_rear_n_per_rad)[0]
+    assert fx == pytest.approx(ref, rel=1e-9)

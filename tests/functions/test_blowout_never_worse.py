@@ -91,3 +91,12 @@ def test_refusal_much_less_worse_than_the_defect(refusal_case):
                    "none (the plant's stop freeze at u = 0 adds to it); see docs/functions/tire_blowout.md")
 def test_refusal_point_no_worse(refusal_case):
     assert refusal_case["on"].metrics[METRIC] <= refusal_case["off"].metrics[METRIC]
+
+
+def test_rear_blowout_in_curve_wheel_held_stays_in_lane():
+    """Issue #10 round 2 (stay-in-lane counterexample, CMA-ES seed 2026): 59 km/h, friction scale 0.68, RR blown,
+    0.18 s detection, wheel held, 650 m curve. Lane margin 0.978 m = (3.75 m lane, JTG B01-2014 - 1.794 m BJ2500
+    width)/2 (requirement tire_blowout.stay_in_lane). With the former H = 1 slip limit (commit 56034d8) the car left
+    the lane (1.71 m); without compensation 6.62 m."""
+    m = _dev(BASE_ON, _sets(59.0, 0.68, 0.18, 3, "fixed", 650))
+    assert m <= 0.978
