@@ -53,11 +53,18 @@ REJECTED -> IDLE (signature_cleared): no candidate on the rejected wheel for ``d
 REJECTED -> BUILD / LIMITED: a blowout found on another wheel (same guards as from IDLE).
 HOLD/LIMITED -> ENDED (vehicle_slow): reference speed below the minimum speed: compensation over; a real blown
 wheel stays released (it is flat).
+IDLE/REJECTED -> REFUSED and BUILD/HOLD/LIMITED -> REFUSED (beyond_stable_region; ``stability_refusal_flag``,
+0 = defect): the car is beyond the stable region at the detection or leaves it during the compensation -
+|r| > 0.85*mu*g/u (limit code 3) or |beta| > atan(0.02*mu*g) (code 4) (Rajamani, Vehicle Dynamics and Control,
+2nd ed. 2012, ch. 8), measured r, beta = integral of a_y/u - r from the detection, mu = the ECU's nominal
+mu_estimate_frac (``unstable_code``): the feed-forward cannot help a sliding car; nothing is planned / the target
+wheel returns to the driver's pressure and ABS; the flat wheel stays released. Terminal for this blowout.
 Rear compensating wheel (``slip_limit_flag``, 0 = seeded defect; falsification of issue #10): its brake force is
-kept inside the Dugoff linear region (H >= 1, where braking does not cut its lateral force) while it carries the
-rear axle's lateral force for the steered path, ``rear_linear_limit``: the planned added pressure is capped at that
-force, and every period a measured slip above the matching slip dumps the added pressure (never below the driver's)
-and lowers the held target. A rear wheel braked into saturation (12-18 % slip, below ABS's 20 %) left the axle with
+kept below the slip where braking starts to cut its lateral force (Dugoff: f(H) >= 1 - s, beyond the linear region
+H >= 1) while it carries its share of the rear axle's lateral force for the steered path (by cornering stiffness,
+the flat tire k_Cy), ``rear_linear_limit``: the planned added pressure is capped at that force, and every period a
+measured slip above the matching slip dumps the added pressure (never below the driver's) and lowers the held
+target. A rear wheel braked into saturation (12-18 % slip, below ABS's 20 %) left the axle with
 the flat tire without lateral force and the car spun toward the blown side. Front targets are not limited (less
 front lateral force is understeer, which does not spin the car).
 Optional closed loop (``closed_loop_flag``): in HOLD, yaw toward the blown side above the deadband adds
