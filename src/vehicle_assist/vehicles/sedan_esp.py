@@ -111,7 +111,8 @@ _CH = {
     "blowout_pressure_req_pa": "target pressure of the compensating wheel: its pressure at detection + p_w (eq. 28)",
     "blowout_valve_time_s": "inlet-valve opening time (eq. 30)",
     "blowout_saturated_flag": "1 if the required pressure exceeds 0.9 p_max (accumulator too low)",
-    "blowout_limit_code": "authority limit: 0 none, 1 opposite inlet stuck (other axle used), 2 no healthy wheel",
+    "blowout_limit_code": ("authority limit / refusal: 0 none, 1 opposite inlet stuck (other axle used), 2 no healthy "
+                           "wheel, 3 refused: |r| > 0.85*mu*g/u, 4 refused: |beta_est| > atan(0.02*mu*g)"),
     "yaw_moment_nm": "net yaw moment of the tire forces M_x + M_y (eqs. 9-11)",
     "lane_offset_m": "lateral offset of the CG from the lane centre (left +)",
     "lane_heading_error_rad": "heading minus lane heading",
