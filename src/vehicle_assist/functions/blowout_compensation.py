@@ -60,9 +60,10 @@ IDLE/REJECTED -> REFUSED and BUILD/HOLD/LIMITED -> REFUSED (beyond_stable_region
 mu_estimate_frac (``unstable_code``): the feed-forward cannot help a sliding car; nothing is planned / the target
 wheel returns to the driver's pressure and ABS; the flat wheel stays released. Terminal for this blowout.
 Rear compensating wheel (``slip_limit_flag``, 0 = seeded defect; falsification of issue #10): its brake force is
-kept below the slip where braking starts to cut its lateral force (Dugoff: f(H) >= 1 - s, beyond the linear region
-H >= 1) while it carries its share of the rear axle's lateral force for the steered path (by cornering stiffness,
-the flat tire k_Cy), ``rear_linear_limit``: the planned added pressure is capped at that force, and every period a
+kept inside the Dugoff linear region (H >= 1, where braking does not cut its lateral force) while it carries its
+share of the rear axle's lateral force for the steered path (by cornering stiffness, the flat tire k_Cy; round 2 -
+a limit at f(H) = 1 - s, where braking starts to cut the lateral force, made low-friction points worse than none
+and was dropped), ``rear_linear_limit``: the planned added pressure is capped at that force, and every period a
 measured slip above the matching slip dumps the added pressure (never below the driver's) and lowers the held
 target. A rear wheel braked into saturation (12-18 % slip, below ABS's 20 %) left the axle with
 the flat tire without lateral force and the car spun toward the blown side. Front targets are not limited (less
@@ -205,34 +206,17 @@ def valve_time_s(p_pa, p_max_pa, t0_s, t1_s, t2_s):
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def linear_slip_limit_frac(mu, fz_n, fy_n, cx_n):
-    """Largest braking slip at which braking does not yet take lateral force away from the wheel, derived from the
-    Dugoff tire (spec 2.3), for a wheel carrying the (linear) lateral force ``fy_n``.
-
-    F_y = C_y*tan(alpha)/(1 - s)*f(H): at a fixed slip angle the braked wheel keeps at least its unbraked lateral
-    force C_y*tan(alpha) while f(H) >= 1 - s. With the linear forces F_x,l = C_x*s/(1 - s) and F_y,l = ``fy_n``,
-    H = mu*F_z/(2*sqrt(F_x,l^2 + F_y,l^2)). Inside the linear region (H >= 1, f = 1) this always holds; beyond it
-    f(H) = H*(2 - H) falls, and the limit is the slip where f(H) = 1 - s (bisection; at fy = 0 the closed form
-    s* = (2k + k^2 + k*sqrt(k^2 + 4k))/2, k = mu*F_z/(2*C_x)). The former limit, H = 1 (resultant of the linear
-    forces = mu*F_z/2), stopped ~20 % short of this point (issue #10 round 2: a rear blowout in a 650 m curve with
-    the wheel held left the lane, 1.71 m). 0 when the lateral force alone already leaves the linear region."""
+    """Largest braking slip at which a wheel stays in the Dugoff tire's linear region (H >= 1 at alpha = 0,
+    spec 2.3): mu*F_z*(1 - s) = 2*C_x*s  ->  s_lin = mu*F_z/(2*C_x + mu*F_z) (derived from the tire model).
+    There f(H) = 1: braking does not yet cut the wheel's lateral force (F_y = C_y*tan(alpha)/(1 - s)*f(H));
+    beyond it f(H) = H*(2 - H) < 1 takes lateral force away from the axle."""
     if fz_n <= 0.0 or mu <= 0.0:
         return 0.0
-    half = 0.5 * mu * fz_n
-    if fy_n * fy_n >= half * half:
+    fx2 = (0.5 * mu * fz_n) ** 2 - fy_n * fy_n
+    if fx2 <= 0.0:
         return 0.0
-    fx_l = math.sqrt(half * half - fy_n * fy_n)
-    lo = fx_l / (cx_n + fx_l)  # H = 1: f(H) = 1 > 1 - s
-    hi = 0.5  # f(H) far below 1 - s there for any passenger-car tire (H << 1)
-    for _ in range(60):
-        sm = 0.5 * (lo + hi)
-        fxm = cx_n * sm / (1.0 - sm)
-        h = half / math.sqrt(fxm * fxm + fy_n * fy_n)
-        fh = 1.0 if h >= 1.0 else h * (2.0 - h)
-        if fh >= 1.0 - sm:
-            lo = sm
-        else:
-            hi = sm
-    return lo
+    fx = math.sqrt(fx2)
+    return fx / (cx_n + fx)
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -244,8 +228,7 @@ def rear_linear_limit(target, fz_straight_n, a_y, p):
     removes, does not count - with the measured u*omega_r a rear blowout at 120 km/h lost its compensation), the
     wheel's load = its straight-driving load (blowout transfer included) -+ the rear lateral load transfer
     m*a_y*h*l_f/(B_r*l) (spec eqs. 3-4), the axle's lateral force m*|a_y|*l_f/l shared with the flat tire by
-    cornering stiffness, then the slip where braking starts to cut the wheel's lateral force
-    (linear_slip_limit_frac) and the Dugoff brake force there, C_x*s/(1 - s)*f(H)."""
+    cornering stiffness (below), then the Dugoff H = 1 boundary (linear_slip_limit_frac)."""
     l = p.chassis_wheelbase_m
     l_f = p.chassis_cg_to_front_axle_m
     m = p.body_mass_kg
@@ -256,13 +239,8 @@ def rear_linear_limit(target, fz_straight_n, a_y, p):
     # nominal blown-tire data) -> the intact wheel carries 1/(1 + k_Cy) of it
     fy = m * abs(a_y) * l_f / l / (1.0 + p.blowout_cornering_stiffness_frac)
     mu = p.blowout_compensation_mu_estimate_frac
-    cx = p.tires_longitudinal_stiffness_n
-    s_lin = linear_slip_limit_frac(mu, fz, fy, cx)
-    fx_l = cx * s_lin / (1.0 - s_lin)  # linear force; the Dugoff brake force is f(H) times it
-    if fx_l <= 0.0:
-        return 0.0, s_lin
-    h = 0.5 * mu * fz / math.sqrt(fx_l * fx_l + fy * fy)
-    return fx_l * (1.0 if h >= 1.0 else h * (2.0 - h)), s_lin
+    s_lin = linear_slip_limit_frac(mu, fz, fy, p.tires_longitudinal_stiffness_n)
+    return p.tires_longitudinal_stiffness_n * s_lin / (1.0 - s_lin), s_lin
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
