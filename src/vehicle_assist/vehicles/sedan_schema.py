@@ -192,6 +192,7 @@ class SedanBlowoutCompensation(Strict):
     abort_yaw_rate_deg_per_s: Annotated[float, Field(gt=0, le=90)]
     slip_limit_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #10 falsification)
     stability_refusal_flag: Annotated[int, Field(ge=0, le=1)] = 1  # refusal beyond the stable region; 0 = defect
+    tire_capacity_flag: Annotated[int, Field(ge=0, le=1)] = 1  # compensating wheel limited by its measured tire force; 0 = defect
 
     @model_validator(mode="after")
     def _order(self):
