@@ -68,6 +68,17 @@ def test_comparative_requirement_uses_stopping_distance_and_the_hba_off_twin():
     assert math.isnan(comparative_robustness(req, {"stopping_distance_m": 76.9}, {"stopping_distance_m": math.nan}))
 
 
+def test_assisted_car_that_never_stops_while_its_twin_does_counts_as_worse():
+    """Independent review of issue #9: the NaN rule must not hide the opposite case - an HBA car with no stopping
+    distance (it never stopped) against a no-HBA twin that stopped is worse, not 'not compared' (before: NaN)."""
+    req = load_requirement_file("brake_assist")["brake_assist.no_worse_than_no_hba"]
+    r = comparative_robustness(req, {"stopping_distance_m": math.nan}, {"stopping_distance_m": 70.0})
+    assert not math.isnan(r) and r < 0
+    off = load_requirement_file("brake_assist")["brake_assist.no_worse_lateral_offset"]
+    r = comparative_robustness(off, {"lateral_deviation_max_m": math.nan}, {"lateral_deviation_max_m": 1.56})
+    assert not math.isnan(r) and r < 0
+
+
 def test_path_and_steering_rows_compare_with_the_hba_off_twin():
     reqs = load_requirement_file("brake_assist")
     for rid, metric in (("no_worse_lateral_offset", "lateral_deviation_max_m"), ("no_worse_heading", "heading_max_deg"),

@@ -370,6 +370,10 @@ def comparative_robustness(req: Requirement, metrics: dict, baseline_metrics: di
         # no baseline value (e.g. the car without HBA never stops after the driver released the pedal): nothing to
         # compare with; max(floor, nan) took the floor and scored an assisted stop of 76.9 m as 76.9 m 'worse'
         return float("nan")
+    if math.isnan(rb):
+        # the assisted run has no value where its twin has one (e.g. the HBA car never stopped, the no-HBA car did):
+        # worse, a Boolean failure like the stall (independent review of issue #9: r was NaN, 'not counted')
+        return STALL_PENALTY
     r = max(req.rollback_floor_m, rb0) - rb
     if metrics.get("engine_stalled_flag", 0.0) >= 0.5 and baseline_metrics.get("engine_stalled_flag", 0.0) < 0.5:
         r = min(r, STALL_PENALTY)
