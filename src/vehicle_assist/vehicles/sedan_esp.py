@@ -43,13 +43,14 @@ from vehicle_assist.plant.sensors import sample_sensors
 from vehicle_assist.plant.tires import blowout as bo
 from vehicle_assist.plant.tires.model import BURCKHARDT_SETS, MODEL_DUGOFF, peak_mu, tire_forces
 from vehicle_assist.vehicles.common import (
-    EVENT_CAPACITY,
     IN_BRAKE_PEDAL,
     IN_STEERING,
     apply_events,
+    countdown,
     driver_inputs,
+    event_buffers,
     road_friction_at,
-    sensor_delay_buffers,
+    sensor_buffers,
 )
 
 LAYOUT = "sedan_esp"
@@ -188,20 +189,9 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
     e_psi = 0.0
     delta = 0.0
 
-    inputs = np.zeros(5)
-    override_on = np.zeros(5, dtype=np.bool_)
-    override_value = np.zeros(5)
-    fired = np.zeros(EVENT_CAPACITY, dtype=np.bool_)
-    due = np.zeros(EVENT_CAPACITY, dtype=np.bool_)
-    signals = np.zeros(4)
-    history, delay_ticks = sensor_delay_buffers(s, n_sens)
-    actuator_fault = np.zeros((len(ACTUATORS), 2))
-    fault = np.zeros(n_sens)
-    fault_value = np.zeros(n_sens)
-    last = np.zeros(n_sens)
-    truth = np.zeros(n_sens)
-    values = np.zeros(n_sens)
-    ok = np.zeros(n_sens)
+    inputs, override_on, override_value, fired, due, signals = event_buffers(len(EVENT_SIGNALS))
+    history, delay_ticks, actuator_fault, fault, fault_value, last, truth, values, ok = \
+        sensor_buffers(s, n_sens, len(ACTUATORS))
     abs_guards = np.zeros(6, dtype=np.bool_)
     hba_guards = np.zeros(8, dtype=np.bool_)
 
@@ -248,18 +238,12 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
     valve = np.zeros(4)  # per circuit: USV closed, HSV open ; pump
     pump_on = False
 
-    ctrl_left = np.int64(0)  # steps to the next sampling tick / trace row (countdowns: no k % n per step)
+    ctrl_left = np.int64(0)  # steps to the next sampling tick / trace row (countdowns)
     rec_left = np.int64(0)
     for k in range(n_steps + 1):
         t = k * dt
-        ctrl_now = ctrl_left == 0
-        if ctrl_now:
-            ctrl_left = ctrl_every
-        ctrl_left -= 1
-        rec_now = rec_left == 0
-        if rec_now:
-            rec_left = rec_every
-        rec_left -= 1
+        ctrl_now, ctrl_left = countdown(ctrl_left, ctrl_every)
+        rec_now, rec_left = countdown(rec_left, rec_every)
         signals[0] = u
         signals[1] = dist
         signals[2] = p_mc
