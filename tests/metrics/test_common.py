@@ -224,3 +224,24 @@ def test_rollback_is_non_negative_and_zero_for_forward_motion(values: np.ndarray
     forward = Trace({"time_s": time_s, "position_m": np.cumsum(np.abs(values)), "speed_mps": np.abs(values)})
     assert common.rollback_distance_m(forward) == 0.0
     assert common.rollback_speed_mps(forward) == 0.0
+
+
+def test_row_metric_gives_each_run_its_own_rows() -> None:
+    """metrics/common.py row_metric (the row loop of the blowout and brake-assist metrics): fn sees one run's rows
+    and the shared time base. Reference, closed form: x_i = a_i t crosses 1 m at t = 1/a_i (a_i = 1, 2, 4 m/s ->
+    1, 0.5, 0.25 s on the 1 ms grid); a single run gives a float, and -0.0 shows as 0.0."""
+    time_s = np.arange(0.0, 2.0 + DT_S / 2, DT_S)
+    rates = np.array([1.0, 2.0, 4.0])
+    x = rates[:, None] * time_s[None, :]
+
+    def crossing(t, xr):
+        return float(t[np.argmax(xr >= 1.0 - 1e-12)])
+
+    metric = common.row_metric(crossing, ("position_m",))
+    out = metric(Trace({"time_s": time_s, "position_m": x}))
+    assert isinstance(out, np.ndarray)
+    np.testing.assert_allclose(out, 1.0 / rates, rtol=0, atol=DT_S / 2)
+    single = metric(Trace({"time_s": time_s, "position_m": x[1]}))
+    assert isinstance(single, float) and single == pytest.approx(0.5, abs=DT_S / 2)
+    negative_zero = common.row_metric(lambda t, xr: -0.0, ("position_m",))(Trace({"time_s": time_s, "position_m": x[0]}))
+    assert np.copysign(1.0, negative_zero) == 1.0

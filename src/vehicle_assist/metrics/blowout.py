@@ -13,8 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from vehicle_assist.core.trace import Trace
-from vehicle_assist.metrics.common import Metric, register
+from vehicle_assist.metrics.common import Metric, register, row_metric
 
 LANE_WIDTH_M = 3.75  # std: JTG B01-2014
 CAR_WIDTH_M = 1.794  # cite:J2500 (tire_blowout.md 7)
@@ -25,24 +24,6 @@ DEFAULT_BLOWOUT_S = 1.0
 RELEASE_S = 0.25  # derived: detection ~0.08 s (0.05 s delay + signature) + dump of 150 bar to within 0.5 bar of the LPA, tau_dump*ln(300) = 0.17 s
 TRACK_M = 1.473  # BJ2500 track B_f = B_r (tire_blowout.md 7, assumed there); the diagnostic M_x uses it
 W = ("fl", "fr", "rl", "rr")
-
-
-def _rows(trace: Trace, name: str) -> np.ndarray:
-    return np.atleast_2d(np.asarray(trace[name], dtype=np.float64))
-
-
-def _time(trace: Trace) -> np.ndarray:
-    t = np.asarray(trace["time_s"], dtype=np.float64)
-    return t[0] if t.ndim == 2 else t
-
-
-def _per_row(fn, names):
-    def metric(trace: Trace):
-        t = _time(trace)
-        cols = [_rows(trace, n) for n in names]
-        out = np.array([fn(t, *[c[i] for c in cols]) for i in range(cols[0].shape[0])], dtype=float)
-        return out if trace.batch_size is not None else float(out[0]) + 0.0
-    return metric
 
 
 def blowout_time_s(t, phi, mode):
@@ -219,4 +200,4 @@ _DEFS = [
      "9.6 diagnostic: max |M_x of the longitudinal forces| / |M_z_blow| in the 9.6 window"),
 ]
 for _name, _fn, _names, _doc in _DEFS:
-    register(Metric(_name, _per_row(_fn, _names), _names, _doc))
+    register(Metric(_name, row_metric(_fn, _names), _names, _doc))

@@ -43,31 +43,12 @@ import math
 
 import numpy as np
 
-from vehicle_assist.core.trace import Trace
-from vehicle_assist.metrics.common import Metric, register
+from vehicle_assist.metrics.common import Metric, register, row_metric
 
 T0_FORCE_N = 20.0  # UN R139 / paper 002 P12
 R139_END_SPEED_MPS = 15.0 / 3.6  # UN R139 / paper 002 P12
 W = ("fl", "fr", "rl", "rr")
 ACTIVE, TERMINATING = 1.0, 2.0
-
-
-def _rows(trace: Trace, name: str) -> np.ndarray:
-    return np.atleast_2d(np.asarray(trace[name], dtype=np.float64))
-
-
-def _time(trace: Trace) -> np.ndarray:
-    t = np.asarray(trace["time_s"], dtype=np.float64)
-    return t[0] if t.ndim == 2 else t
-
-
-def _per_row(fn, names):
-    def metric(trace: Trace):
-        t = _time(trace)
-        cols = [_rows(trace, n) for n in names]
-        out = np.array([fn(t, *[c[i] for c in cols]) for i in range(cols[0].shape[0])], dtype=float)
-        return out if trace.batch_size is not None else float(out[0]) + 0.0
-    return metric
 
 
 def _t0_index(force):
@@ -329,4 +310,4 @@ _DEFS = [
      "highest car speed with a wheel stopped (< 0.1 rad/s); criterion 5 / ABS cut-off: <= 5 km/h"),
 ]
 for _name, _fn, _names, _doc in _DEFS:
-    register(Metric(_name, _per_row(_fn, _names), _names, _doc))
+    register(Metric(_name, row_metric(_fn, _names), _names, _doc))

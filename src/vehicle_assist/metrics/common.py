@@ -71,7 +71,8 @@ def _out(value):
     return float(value) + 0.0 if np.ndim(value) == 0 else np.asarray(value, dtype=np.float64) + 0.0
 
 
-# row helpers of the metrics that work on (runs, samples) arrays (metrics/hill_start.py, hill_start_ehb.py)
+# row helpers of the metrics that work on (runs, samples) arrays (metrics/hill_start.py, hill_start_ehb.py,
+# blowout.py, brake_assist.py)
 def channel_rows(trace: Trace, name: str) -> np.ndarray:
     """A channel as (runs, samples) float64: one row for a single run."""
     return np.atleast_2d(np.asarray(trace[name], dtype=np.float64))
@@ -92,6 +93,25 @@ def take_rows(values: np.ndarray, index: np.ndarray) -> np.ndarray:
     if values.shape[0] == 1 and len(index) > 1:
         values = np.broadcast_to(values, (len(index), values.shape[1]))
     return values[np.arange(len(index)), index]
+
+
+def time_row(trace: Trace) -> np.ndarray:
+    """``time_s`` of one run: the first row of a batch trace (its runs share the sample times)."""
+    t = np.asarray(trace["time_s"], dtype=np.float64)
+    return t[0] if t.ndim == 2 else t
+
+
+def row_metric(fn: Callable[..., float], names: Iterable[str]) -> Callable[[Trace], float | np.ndarray]:
+    """A metric ``f(trace)`` that computes ``fn(t, *channels)`` run by run: ``t`` from :func:`time_row`, the
+    channels ``names`` as that run's rows; one value per run (:func:`per_run`)."""
+    names = tuple(names)
+
+    def metric(trace: Trace):
+        t = time_row(trace)
+        cols = [channel_rows(trace, n) for n in names]
+        out = np.array([fn(t, *[c[i] for c in cols]) for i in range(cols[0].shape[0])], dtype=float)
+        return per_run(out, trace)
+    return metric
 
 
 def _integral(trace: Trace, power_name: str) -> float:
