@@ -68,6 +68,17 @@ measured slip above the matching slip dumps the added pressure (never below the 
 target. A rear wheel braked into saturation (12-18 % slip, below ABS's 20 %) left the axle with
 the flat tire without lateral force and the car spun toward the blown side. Front targets are not limited (less
 front lateral force is understeer, which does not spin the car).
+Front compensating wheel limited by what its tire measurably gives (``tire_capacity_flag``, 0 = seeded defect;
+issue #10 round 3, ``tire_capacity_check`` / ``tire_capacity_rule``): the ECU plans from its nominal mu 0.8; on a
+wet road that brakes the front wheel deep past its linear region and the lost front lateral force carries the car
+out of a curve (CMA-ES seed 2026: 9 front points worse than none). From measurements only (force-slip idea of
+Gustafsson, Automatica 33(6), 1997): F_x = (K_b*p_est + J*omega_dot)/R, slip from the wheel speed against the
+reference, q = F_x/(C_x*s/(1 - s)) = Dugoff f(H); q < 0.8 (CAP_FORCE_RATIO) at s > 1 % for 20 ms with a measured
+capacity mu*F_z = 2*H*C_x*s/(1 - s) (H = 1 - sqrt(1 - q)) below the nominal mu latches a low-friction limit: the
+target drops to the H = 1 force mu_est*F_z/2 and to the plan re-scaled to mu_est (never below the driver's pressure),
+above it the added pressure is dumped. Not while the driver brakes (the wheel's pressure is then partly the
+driver's). Applied to front targets only: on the rear it made the two low-friction rear regression points worse
+than none (round 3 measurement), the rear keeps ``rear_linear_limit``.
 Optional closed loop (``closed_loop_flag``): in HOLD, yaw toward the blown side above the deadband adds
 pulsed build on the braking wheel, yaw away from it dumps; otherwise hold.
 """
@@ -111,8 +122,9 @@ Q_NONE, Q_BUILD, Q_HOLD, Q_RELEASE, Q_PULSE = range(5)
 # state vector
 S_MODE, S_BLOWN, S_SUSPECT, S_SUSPECT_S, S_T_DET, S_M_EST, S_P_REQ, S_T_VALVE, S_ELAPSED, S_TARGET, S_SATURATED, \
     S_SLIP_EST, S_LIMIT_CODE, S_MODE_ELAPSED, S_VREF, S_STARTED, S_EXCLUDED, S_REJECTED, S_SOURCES, S_CLEAR_S, \
-    S_P_ADD, S_P_START, S_SLIP_CAP, S_SLIP_LIMITED, S_FZ_TARGET, S_BETA_EST = range(26)
-STATE_SIZE = 26
+    S_P_ADD, S_P_START, S_SLIP_CAP, S_SLIP_LIMITED, S_FZ_TARGET, S_BETA_EST, S_VW_PREV, S_LOW_S, S_CAP_LATCHED, \
+    S_F_CAP = range(30)
+STATE_SIZE = 30
 # detection sources (S_SOURCES): bit 1 wheel speeds, bit 2 TPMS
 SRC_WS, SRC_TPMS = 1, 2
 RISE_MARGIN_MPS2 = 2.0  # assumed: the BJ2500 cannot speed up faster than a_x,meas + 2 m/s^2 (0-100 km/h in ~14 s)
@@ -123,6 +135,12 @@ LIMIT_REASONS = ("none", "opposite inlet valve stuck closed: other-axle wheel of
                  "refused: sideslip estimate above the stable bound atan(0.02*mu*g) (Rajamani 2012, 8.x)")
 YAW_BOUND_FRAC = 0.85  # Rajamani, Vehicle Dynamics and Control (2nd ed. 2012), ch. 8 yaw control: |r| <= 0.85*mu*g/u
 SIDESLIP_BOUND_S2_PER_M = 0.02  # same source: beta_max = atan(0.02*mu*g)
+# measured tire capacity of the compensating wheel (tire_capacity_check / tire_capacity_rule)
+CAP_FORCE_RATIO = 0.8  # assumed: measured F_x below 0.8*C_x*s/(1 - s) (Dugoff f(H) < 0.8) = clearly out of the linear
+#   region: the ECU's nominal brake gain (pad friction) and C_x are each taken as known to ~10 %, so a ratio above 0.8
+#   is not evidence of a saturating tire (the paper's own test runs its front wheel at 0.83 on the cement road)
+CAP_MIN_SLIP = 0.01  # assumed: below 1 % the wheel-speed slip is within the wheel-radius/cornering spread of the wheels
+CAP_PERSIST_S = 0.02  # assumed: 4 ESP periods of 5 ms below the ratio before latching (debounce of a derivative signal)
 
 
 def initial_state() -> np.ndarray:
@@ -221,6 +239,12 @@ def linear_slip_limit_frac(mu, fz_n, fy_n, cx_n):
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def rear_linear_limit(target, fz_straight_n, a_y, p):
+    """``rear_linear_limit_mu`` at the ECU's nominal friction mu_estimate_frac."""
+    return rear_linear_limit_mu(target, fz_straight_n, a_y, p.blowout_compensation_mu_estimate_frac, p)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def rear_linear_limit_mu(target, fz_straight_n, a_y, mu, p):
     """(brake force [N], slip) up to which the rear compensating wheel ``target`` stays in the Dugoff linear
     region while carrying the rear axle's lateral force, from the ECU's nominal data: a_y = u*r_ref(delta), the
     lateral acceleration the measured steer angle asks for (reference_yaw_rate; the curve's, or the driver's
@@ -238,9 +262,29 @@ def rear_linear_limit(target, fz_straight_n, a_y, p):
     # cornering stiffness (linear region, F_y = C_y*alpha): intact C_y, blown k_Cy*C_y (tire_blowout.md 7, the ECU's
     # nominal blown-tire data) -> the intact wheel carries 1/(1 + k_Cy) of it
     fy = m * abs(a_y) * l_f / l / (1.0 + p.blowout_cornering_stiffness_frac)
-    mu = p.blowout_compensation_mu_estimate_frac
     s_lin = linear_slip_limit_frac(mu, fz, fy, p.tires_longitudinal_stiffness_n)
     return p.tires_longitudinal_stiffness_n * s_lin / (1.0 - s_lin), s_lin
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def tire_capacity_check(p_wheel_pa, vw_now, vw_prev, v_ref, dt, gain_nm_per_pa, p):
+    """Force-slip estimate of one braked wheel from measurements only (slip-based friction estimation, Gustafsson,
+    Automatica 33(6), 1997: the tire's force against its slip tells how much friction it has): brake force
+    F_x = (K_b*p + J*d(omega)/dt)/R (wheel spin balance J*omega_dot = F_x*R - T_b, T_b = K_b*p the ECU's nominal brake
+    gain on its pressure estimate), slip s = (v_ref - omega*R)/v_ref, and the ratio q = F_x/(C_x*s/(1 - s)) to the
+    nominal linear force: Dugoff gives q = f(H) (1 in the linear region, H*(2 - H) below it, spec 2.3). Returns
+    (F_x [N], s, q, friction capacity mu*F_z [N]); the capacity inverts f: H = 1 - sqrt(1 - q), mu*F_z =
+    2*H*C_x*s/(1 - s) (alpha = 0 form; with a lateral force it under-states the capacity: conservative)."""
+    r_w = p.body_wheel_radius_m
+    omega_dot = (vw_now - vw_prev) / (r_w * max(dt, 1e-6))
+    fx = (gain_nm_per_pa * max(p_wheel_pa, 0.0) + p.body_wheel_inertia_kgm2 * omega_dot) / r_w
+    s = min(max((v_ref - vw_now) / max(v_ref, 1.0), 0.0), 0.99)
+    lin = p.tires_longitudinal_stiffness_n * s / (1.0 - s)
+    if lin <= 0.0:
+        return fx, s, 1.0, 0.0
+    q = min(max(fx / lin, 0.0), 1.0)
+    h = 1.0 - math.sqrt(1.0 - q)
+    return fx, s, q, 2.0 * h * lin
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -377,6 +421,10 @@ def _plan(st, b, target, limited, slip_mean, a_x, a_y, p_est, p):
     gl = (g0, g1, g2, g3)
     st[S_FZ_TARGET] = gl[target]
     st[S_SLIP_LIMITED] = 0.0  # a new plan (new wheel or substitute) starts unlimited
+    st[S_CAP_LATCHED] = 0.0  # ... and with its own tire-capacity check (tire_capacity_rule)
+    st[S_LOW_S] = 0.0
+    st[S_F_CAP] = 0.0
+    st[S_VW_PREV] = -1.0
     if target >= 2 and p.blowout_compensation_slip_limit_flag > 0.5:
         # rear compensating wheel: its brake force kept inside the Dugoff linear region with the lateral force the
         # rear axle needs now (rear_linear_limit); the feed-forward pressure is capped at that force
@@ -574,4 +622,48 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                 requests[tg] = Q_RELEASE if p_est[tg] > st[S_P_START] + 1.0e5 else Q_HOLD
             elif mode == BUILD and st[S_SLIP_LIMITED] > 0.5:
                 requests[tg] = Q_HOLD  # once limited, the build does not start again: hold at the lowered target
+        if p.blowout_compensation_tire_capacity_flag > 0.5 and tg < 2:
+            tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, dt)
     return n_events
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, dt):
+    """Compensating wheel (front or rear) limited by what its tire measurably gives (``tire_capacity_flag``, 0 = seeded
+    defect; issue #10 round 3): the ECU plans from its nominal mu 0.8, which over-states a wet road. While the wheel
+    carries added pressure, ``tire_capacity_check`` compares its measured brake force with the nominal linear force at
+    its measured slip; q < CAP_FORCE_RATIO with s > CAP_MIN_SLIP for CAP_PERSIST_S = the tire has left its linear
+    region: a low-friction limit is latched for the rest of this plan, the target pressure is lowered to the force
+    measured there (the wheel's capacity; a rear wheel also to the Dugoff H = 1 force of ``rear_linear_limit_mu`` at
+    the measured friction mu = capacity/F_z, with its lateral share) and never below the driver's pressure; above
+    the lowered target the added pressure is dumped, otherwise held (no further build)."""
+    gain = p.brakes_front_gain_nm_per_pa if tg < 2 else p.brakes_rear_gain_nm_per_pa
+    prev = st[S_VW_PREV] if st[S_VW_PREV] >= 0.0 else vw[tg]
+    fx, s_tg, q, cap = tire_capacity_check(p_est[tg], vw[tg], prev, v_ref, dt, gain, p)
+    st[S_VW_PREV] = vw[tg]
+    if braking < 0.5 and p_est[tg] > st[S_P_START] + 1.0e5 and s_tg > CAP_MIN_SLIP and q < CAP_FORCE_RATIO:
+        st[S_LOW_S] += dt
+    else:
+        st[S_LOW_S] = 0.0
+    mu_est = cap / max(st[S_FZ_TARGET], 1.0)  # the friction the tire measurably has (capacity over the ECU's load)
+    if st[S_LOW_S] >= CAP_PERSIST_S - 1e-9 and mu_est < p.blowout_compensation_mu_estimate_frac:
+        # out of the linear region on a road with less friction than the ECU planned with: the wheel is kept at the
+        # Dugoff H = 1 force of its measured capacity (F = mu*F_z/2, spec 2.3), and at most at the pressure re-planned
+        # with the measured friction (without the driver's brake, the rule's case, the intact wheels carry no brake
+        # force and M_z_blow = -+b*mu*k_blow*F'_z, eqs. 22-25, and p_w, eq. 28, are proportional to mu); re-evaluated
+        # while the wheel stays out, the lowest kept (latched)
+        f_hold = 0.5 * cap
+        if tg >= 2:
+            fx_lin, _ = rear_linear_limit_mu(tg, st[S_FZ_TARGET], a_y_ref, mu_est, p)
+            f_hold = min(f_hold, fx_lin)
+        p_replan = st[S_P_ADD] * mu_est / p.blowout_compensation_mu_estimate_frac
+        f_hold = min(f_hold, (st[S_P_START] + p_replan) * gain / p.body_wheel_radius_m)
+        if st[S_CAP_LATCHED] < 0.5 or f_hold < st[S_F_CAP]:
+            st[S_F_CAP] = f_hold
+        st[S_CAP_LATCHED] = 1.0
+        st[S_P_REQ] = max(min(st[S_P_REQ], st[S_F_CAP] * p.body_wheel_radius_m / gain), st[S_P_START])
+    if st[S_CAP_LATCHED] > 0.5:
+        if p_est[tg] > st[S_P_REQ] + 1.0e5 and braking < 0.5:
+            requests[tg] = Q_RELEASE
+        elif requests[tg] != Q_RELEASE:
+            requests[tg] = Q_HOLD
