@@ -66,3 +66,14 @@ def test_coarse_grid_study_counts(tmp_path):
         assert np.all((table["no_worse_margin_m"] <= margin + 1e-12))
         steep = table[table["slope"] > 5]
         assert (steep["baseline_rollback_m"] > 0.01).all(), "the no-assist twin should roll back on a grade"
+
+
+def test_no_worse_margin_counts_a_missing_assisted_value_as_worse():
+    """An assisted run without a rollback value where its no-assist twin has one must not vanish from the
+    counterexample count (a NaN margin is never < 0)."""
+    from vehicle_assist.verification.requirements import STALL_PENALTY
+
+    assert st.no_worse_margin({}, {"rollback_distance_m": 0.0}) == STALL_PENALTY
+    assert math.isnan(st.no_worse_margin({}, {}))
+    # closed form: floor 1 cm, baseline 0.5 m, assisted 0.2 m -> margin 0.3 m
+    assert st.no_worse_margin({"rollback_distance_m": 0.2}, {"rollback_distance_m": 0.5}) == pytest.approx(0.3)

@@ -107,7 +107,12 @@ def run_points(env: Envelope, points: list[dict], baseline: bool = True, chunk: 
 def no_worse_margin(m: dict, b: dict) -> float:
     """Robustness of "never worse than no assist" (m): max(1 cm, baseline rollback) - rollback, or the
     stall penalty if the assist stalls an engine the baseline does not (issue #7 item 1)."""
-    r = max(ROLLBACK_FLOOR_M, b.get("rollback_distance_m", math.nan)) - m.get("rollback_distance_m", math.nan)
+    rb, rb0 = m.get("rollback_distance_m", math.nan), b.get("rollback_distance_m", math.nan)
+    if math.isnan(rb) and not math.isnan(rb0):
+        # the assisted run has no rollback value where its twin has one: worse (a NaN margin was 'not counted',
+        # the hole the issue #9 review closed in verification/requirements.py)
+        return float(STALL_PENALTY)
+    r = max(ROLLBACK_FLOOR_M, rb0) - rb
     if m.get("engine_stalled_flag", 0.0) >= 0.5 and b.get("engine_stalled_flag", 0.0) < 0.5:
         r = min(r, STALL_PENALTY)
     return float(r)
