@@ -12,6 +12,9 @@ import pytest
 import vehicle_assist as va
 
 BASE_ON, BASE_OFF = "blowout_lf_60kph_paper", "blowout_lf_60kph_off"
+# the code before the rear fixes: neither the nominal rear slip limit nor the measured tire capacity (round 3: the
+# capacity rule alone already keeps these points below none, so both are switched off for the negative control)
+NO_REAR_LIMITS = ["vehicle.blowout_compensation.slip_limit_flag=0", "vehicle.blowout_compensation.tire_capacity_flag=0"]
 METRIC = "blowout_lateral_deviation_run_max_m"
 # (name, speed km/h, road friction scale, detection delay s, blown wheel, driver, lane radius m) as found
 CASES = [
@@ -36,7 +39,7 @@ def _dev(name, sets):
 def case(request):
     sets = _sets(*request.param[1:])
     return {"on": _dev(BASE_ON, sets), "off": _dev(BASE_OFF, sets),
-            "defect": _dev(BASE_ON, sets + ["vehicle.blowout_compensation.slip_limit_flag=0"])}
+            "defect": _dev(BASE_ON, sets + NO_REAR_LIMITS)}
 
 
 def test_former_counterexample_no_worse(case):
@@ -66,7 +69,8 @@ def _run(name, sets):
 def refusal_case(request):
     sets = _sets(*request.param[1:])
     return {"on": _run(BASE_ON, sets), "off": _run(BASE_OFF, sets),
-            "defect": _run(BASE_ON, sets + ["vehicle.blowout_compensation.stability_refusal_flag=0"])}
+            "defect": _run(BASE_ON, sets + ["vehicle.blowout_compensation.stability_refusal_flag=0",
+                                             "vehicle.blowout_compensation.tire_capacity_flag=0"])}
 
 
 def test_refusal_fires_beyond_the_stable_region(refusal_case):
@@ -93,13 +97,12 @@ def test_refusal_point_no_worse(refusal_case):
     assert refusal_case["on"].metrics[METRIC] <= refusal_case["off"].metrics[METRIC]
 
 
-@pytest.mark.xfail(strict=True, reason="honest FAIL (issue #10 round 2): the rear wheel's H = 1 limit leaves 1.71 m; "
-                   "a limit where braking starts to cut lateral force (f(H) >= 1 - s) gave 0.78 m but made two "
-                   "low-friction points worse than none (test_low_friction_rear_points_no_worse)")
 def test_rear_blowout_in_curve_wheel_held_stays_in_lane():
     """Issue #10 round 2 (stay-in-lane counterexample, CMA-ES seed 2026): 59 km/h, friction scale 0.68, RR blown,
     0.18 s detection, wheel held, 650 m curve. Lane margin 0.978 m = (3.75 m lane, JTG B01-2014 - 1.794 m BJ2500
-    width)/2 (requirement tire_blowout.stay_in_lane). Without compensation 6.62 m."""
+    width)/2 (requirement tire_blowout.stay_in_lane). Without compensation 6.62 m. Round 3: the rear limit where
+    braking starts to cut lateral force (f(H) >= 1 - s) gives 0.78 m (the round-2 H = 1 limit, d0f65ff, 1.71 m:
+    this test was a strict xfail there)."""
     m = _dev(BASE_ON, _sets(59.0, 0.68, 0.18, 3, "fixed", 650))
     assert m <= 0.978
 
@@ -117,6 +120,14 @@ LOW_MU_REAR_CASES = [
 def test_low_friction_rear_points_no_worse(c):
     sets = _sets(*c[1:])
     assert _dev(BASE_ON, sets) < _dev(BASE_OFF, sets)
+
+
+@pytest.mark.parametrize("c", LOW_MU_REAR_CASES, ids=[c[0] for c in LOW_MU_REAR_CASES])
+def test_low_friction_rear_points_fail_without_the_measured_capacity(c):
+    """Round 3 negative control: with the f(H) >= 1 - s rear limit planned from the nominal mu 0.8 alone
+    (tire_capacity_flag = 0) both points are worse than none again (0.81 vs 0.68 m, 0.83 vs 0.80 m)."""
+    sets = _sets(*c[1:])
+    assert _dev(BASE_ON, sets + ["vehicle.blowout_compensation.tire_capacity_flag=0"]) > _dev(BASE_OFF, sets)
 
 
 # Issue #10 round 3: class (a) of the CMA-ES seed 2026 budget 64 --keep-going search (front blowouts, lane follower,

@@ -60,15 +60,16 @@ IDLE/REJECTED -> REFUSED and BUILD/HOLD/LIMITED -> REFUSED (beyond_stable_region
 mu_estimate_frac (``unstable_code``): the feed-forward cannot help a sliding car; nothing is planned / the target
 wheel returns to the driver's pressure and ABS; the flat wheel stays released. Terminal for this blowout.
 Rear compensating wheel (``slip_limit_flag``, 0 = seeded defect; falsification of issue #10): its brake force is
-kept inside the Dugoff linear region (H >= 1, where braking does not cut its lateral force) while it carries its
-share of the rear axle's lateral force for the steered path (by cornering stiffness, the flat tire k_Cy; round 2 -
-a limit at f(H) = 1 - s, where braking starts to cut the lateral force, made low-friction points worse than none
-and was dropped), ``rear_linear_limit``: the planned added pressure is capped at that force, and every period a
+kept below the slip where braking starts to cut its lateral force (Dugoff f(H) >= 1 - s; round 3 - with the nominal
+mu alone this limit made two low-friction points worse than none in round 2, the measured tire capacity below now
+guards them; round 2 used the H = 1 boundary) while it carries its
+share of the rear axle's lateral force for the steered path (by cornering stiffness, the flat tire k_Cy),
+``rear_linear_limit``: the planned added pressure is capped at that force, and every period a
 measured slip above the matching slip dumps the added pressure (never below the driver's) and lowers the held
 target. A rear wheel braked into saturation (12-18 % slip, below ABS's 20 %) left the axle with
-the flat tire without lateral force and the car spun toward the blown side. Front targets are not limited (less
-front lateral force is understeer, which does not spin the car).
-Front compensating wheel limited by what its tire measurably gives (``tire_capacity_flag``, 0 = seeded defect;
+the flat tire without lateral force and the car spun toward the blown side. Front targets are not limited by it
+(less front lateral force is understeer, which does not spin the car).
+Compensating wheel (front and rear) limited by what its tire measurably gives (``tire_capacity_flag``, 0 = seeded defect;
 issue #10 round 3, ``tire_capacity_check`` / ``tire_capacity_rule``): the ECU plans from its nominal mu 0.8; on a
 wet road that brakes the front wheel deep past its linear region and the lost front lateral force carries the car
 out of a curve (CMA-ES seed 2026: 9 front points worse than none). From measurements only (force-slip idea of
@@ -77,8 +78,7 @@ reference, q = F_x/(C_x*s/(1 - s)) = Dugoff f(H); q < 0.8 (CAP_FORCE_RATIO) at s
 capacity mu*F_z = 2*H*C_x*s/(1 - s) (H = 1 - sqrt(1 - q)) below the nominal mu latches a low-friction limit: the
 target drops to the H = 1 force mu_est*F_z/2 and to the plan re-scaled to mu_est (never below the driver's pressure),
 above it the added pressure is dumped. Not while the driver brakes (the wheel's pressure is then partly the
-driver's). Applied to front targets only: on the rear it made the two low-friction rear regression points worse
-than none (round 3 measurement), the rear keeps ``rear_linear_limit``.
+driver's). A rear target is also held to ``rear_linear_limit_mu`` at the measured friction (its lateral share).
 Optional closed loop (``closed_loop_flag``): in HOLD, yaw toward the blown side above the deadband adds
 pulsed build on the braking wheel, yaw away from it dumps; otherwise hold.
 """
@@ -224,17 +224,30 @@ def valve_time_s(p_pa, p_max_pa, t0_s, t1_s, t2_s):
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def linear_slip_limit_frac(mu, fz_n, fy_n, cx_n):
-    """Largest braking slip at which a wheel stays in the Dugoff tire's linear region (H >= 1 at alpha = 0,
-    spec 2.3): mu*F_z*(1 - s) = 2*C_x*s  ->  s_lin = mu*F_z/(2*C_x + mu*F_z) (derived from the tire model).
-    There f(H) = 1: braking does not yet cut the wheel's lateral force (F_y = C_y*tan(alpha)/(1 - s)*f(H));
-    beyond it f(H) = H*(2 - H) < 1 takes lateral force away from the axle."""
+    """Largest braking slip at which braking does not yet take lateral force away from the wheel, derived from the
+    Dugoff tire (spec 2.3), for a wheel carrying the (linear) lateral force ``fy_n``: F_y = C_y*tan(alpha)/(1 - s)*f(H)
+    keeps at least its unbraked value C_y*tan(alpha) while f(H) >= 1 - s, with the linear forces F_x,l = C_x*s/(1 - s),
+    F_y,l = ``fy_n`` and H = mu*F_z/(2*sqrt(F_x,l^2 + F_y,l^2)). Inside the linear region (H >= 1, f = 1) it always
+    holds; beyond it f(H) = H*(2 - H) falls: bisection for f(H) = 1 - s from the H = 1 slip (closed form at fy = 0:
+    s* = (2k + k^2 + k*sqrt(k^2 + 4k))/2, k = mu*F_z/(2*C_x)). 0 when the lateral force alone uses mu*F_z/2."""
     if fz_n <= 0.0 or mu <= 0.0:
         return 0.0
-    fx2 = (0.5 * mu * fz_n) ** 2 - fy_n * fy_n
-    if fx2 <= 0.0:
+    half = 0.5 * mu * fz_n
+    if fy_n * fy_n >= half * half:
         return 0.0
-    fx = math.sqrt(fx2)
-    return fx / (cx_n + fx)
+    fx_l = math.sqrt(half * half - fy_n * fy_n)
+    lo = fx_l / (cx_n + fx_l)
+    hi = 0.5
+    for _ in range(60):
+        sm = 0.5 * (lo + hi)
+        fxm = cx_n * sm / (1.0 - sm)
+        h = half / math.sqrt(fxm * fxm + fy_n * fy_n)
+        fh = 1.0 if h >= 1.0 else h * (2.0 - h)
+        if fh >= 1.0 - sm:
+            lo = sm
+        else:
+            hi = sm
+    return lo
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -262,8 +275,13 @@ def rear_linear_limit_mu(target, fz_straight_n, a_y, mu, p):
     # cornering stiffness (linear region, F_y = C_y*alpha): intact C_y, blown k_Cy*C_y (tire_blowout.md 7, the ECU's
     # nominal blown-tire data) -> the intact wheel carries 1/(1 + k_Cy) of it
     fy = m * abs(a_y) * l_f / l / (1.0 + p.blowout_cornering_stiffness_frac)
-    s_lin = linear_slip_limit_frac(mu, fz, fy, p.tires_longitudinal_stiffness_n)
-    return p.tires_longitudinal_stiffness_n * s_lin / (1.0 - s_lin), s_lin
+    cx = p.tires_longitudinal_stiffness_n
+    s_lin = linear_slip_limit_frac(mu, fz, fy, cx)
+    fx_l = cx * s_lin / (1.0 - s_lin)
+    if fx_l <= 0.0:
+        return 0.0, s_lin
+    h = 0.5 * mu * fz / math.sqrt(fx_l * fx_l + fy * fy)
+    return fx_l * (1.0 if h >= 1.0 else h * (2.0 - h)), s_lin
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -622,7 +640,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                 requests[tg] = Q_RELEASE if p_est[tg] > st[S_P_START] + 1.0e5 else Q_HOLD
             elif mode == BUILD and st[S_SLIP_LIMITED] > 0.5:
                 requests[tg] = Q_HOLD  # once limited, the build does not start again: hold at the lowered target
-        if p.blowout_compensation_tire_capacity_flag > 0.5 and tg < 2:
+        if p.blowout_compensation_tire_capacity_flag > 0.5:
             tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, dt)
     return n_events
 
@@ -633,9 +651,10 @@ def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, 
     defect; issue #10 round 3): the ECU plans from its nominal mu 0.8, which over-states a wet road. While the wheel
     carries added pressure, ``tire_capacity_check`` compares its measured brake force with the nominal linear force at
     its measured slip; q < CAP_FORCE_RATIO with s > CAP_MIN_SLIP for CAP_PERSIST_S = the tire has left its linear
-    region: a low-friction limit is latched for the rest of this plan, the target pressure is lowered to the force
-    measured there (the wheel's capacity; a rear wheel also to the Dugoff H = 1 force of ``rear_linear_limit_mu`` at
-    the measured friction mu = capacity/F_z, with its lateral share) and never below the driver's pressure; above
+    region; if the measured friction mu_est = capacity/F_z is also below the nominal, a low-friction limit is latched
+    for the rest of this plan: the target is lowered to the H = 1 force mu_est*F_z/2 and to the plan re-scaled to
+    mu_est (a rear wheel also to ``rear_linear_limit_mu`` at mu_est, with its lateral share), never below the driver's
+    pressure, and not while the driver brakes; above
     the lowered target the added pressure is dumped, otherwise held (no further build)."""
     gain = p.brakes_front_gain_nm_per_pa if tg < 2 else p.brakes_rear_gain_nm_per_pa
     prev = st[S_VW_PREV] if st[S_VW_PREV] >= 0.0 else vw[tg]
