@@ -58,7 +58,8 @@ IDLE/REJECTED -> REFUSED and BUILD/HOLD/LIMITED -> REFUSED (beyond_stable_region
 |r| > 0.85*mu*g/u (limit code 3) or |beta| > atan(0.02*mu*g) (code 4) (Rajamani, Vehicle Dynamics and Control,
 2nd ed. 2012, ch. 8), measured r, beta = integral of a_y/u - r from the detection, mu = the ECU's nominal
 mu_estimate_frac (``unstable_code``): the feed-forward cannot help a sliding car; nothing is planned / the target
-wheel returns to the driver's pressure and ABS; the flat wheel stays released. Terminal for this blowout.
+wheel returns to the driver's pressure and ABS; a wheel confirmed by both sources stays
+released (flat); a single-source detection is not held released (review finding 3). Terminal for this blowout.
 Rear compensating wheel (``slip_limit_flag``, 0 = seeded defect; falsification of issue #10): its brake force is
 kept below the slip where braking starts to cut its lateral force (Dugoff f(H) >= 1 - s; round 3 - with the nominal
 mu alone this limit made two low-friction points worse than none in round 2, the measured tire capacity below now
@@ -414,6 +415,18 @@ def _substitute(b):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def _release_unconfirmed_latch(st):
+    """A refusal of a detection from ONE source (wheel speed or TPMS, not both): the wheel is not confirmed flat, so it
+    is no longer held released - ABS/HBA treat it as without the function (independent review of issue #10: a
+    refused false TPMS alarm kept a healthy wheel released for good; the REJECTED path already cleared it)."""
+    if st[S_SOURCES] < SRC_WS + SRC_TPMS - 0.5:
+        st[S_BLOWN] = -1.0
+        st[S_EXCLUDED] = -1.0
+        st[S_SUSPECT] = -1.0
+        st[S_SUSPECT_S] = 0.0
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def _plan(st, b, target, limited, slip_mean, a_x, a_y, p_est, p):
     """Estimate (eqs. 13-25), added pressure (eq. 28) on top of the target's present pressure, valve time
     (eq. 30) for blown wheel b braking ``target``; capped at the lock estimate when ``limited``."""
@@ -551,6 +564,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                 reason = G_UNSTABLE
                 st[S_LIMIT_CODE] = code
                 st[S_TARGET] = -1.0
+                _release_unconfirmed_latch(st)
             n_events = log_event(events, n_events, t, machine_id, mode, new, reason)
             mode = new
             st[S_MODE] = mode
@@ -582,11 +596,13 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_SUSPECT_S] = 0.0
         elif code != LIMIT_NONE:
             # the car has left the stable region: the feed-forward stands down (the target wheel back to the driver's
-            # pressure and ABS, Q_NONE); the blown wheel stays released as in ENDED (it is flat)
+            # pressure and ABS, Q_NONE); a blown wheel confirmed by both sources stays released as in ENDED (it is flat),
+            # a single-source detection is released from the latch (not confirmed)
             n_events = log_event(events, n_events, t, machine_id, mode, REFUSED, G_UNSTABLE)
             mode = REFUSED
             st[S_LIMIT_CODE] = code
             st[S_TARGET] = -1.0
+            _release_unconfirmed_latch(st)
         elif mode == BUILD:
             if st[S_ELAPSED] >= st[S_T_VALVE] - 1e-9:
                 n_events = log_event(events, n_events, t, machine_id, mode, HOLD, G_VALVE_DONE)
