@@ -361,11 +361,12 @@ def robustness(req: Requirement, trace) -> float:
     return value
 
 
-def comparative_robustness(req: Requirement, metrics: dict, baseline_metrics: dict) -> float:
-    """``max(floor, baseline rollback) - rollback`` [m]; STALL_PENALTY if the assisted run stalls and the
-    baseline does not (issue #7 item 1: never worse than no assist)."""
-    rb = float(metrics.get(req.metric, float("nan")))
-    rb0 = float(baseline_metrics.get(req.metric, float("nan")))
+def no_worse_robustness(metrics: dict, baseline_metrics: dict, metric: str, floor: float) -> float:
+    """``max(floor, baseline value) - value`` [unit of ``metric``]; STALL_PENALTY if the assisted run stalls and the
+    baseline does not (issue #7 item 1: never worse than no assist). Shared by the requirement kind
+    ``no_worse_than_baseline`` and the envelope study (verification/study.py)."""
+    rb = float(metrics.get(metric, float("nan")))
+    rb0 = float(baseline_metrics.get(metric, float("nan")))
     if math.isnan(rb0):
         # no baseline value (e.g. the car without HBA never stops after the driver released the pedal): nothing to
         # compare with; max(floor, nan) took the floor and scored an assisted stop of 76.9 m as 76.9 m 'worse'
@@ -374,10 +375,15 @@ def comparative_robustness(req: Requirement, metrics: dict, baseline_metrics: di
         # the assisted run has no value where its twin has one (e.g. the HBA car never stopped, the no-HBA car did):
         # worse, a Boolean failure like the stall (independent review of issue #9: r was NaN, 'not counted')
         return STALL_PENALTY
-    r = max(req.rollback_floor_m, rb0) - rb
+    r = max(floor, rb0) - rb
     if metrics.get("engine_stalled_flag", 0.0) >= 0.5 and baseline_metrics.get("engine_stalled_flag", 0.0) < 0.5:
         r = min(r, STALL_PENALTY)
     return float(r) if math.isfinite(r) else float("nan")
+
+
+def comparative_robustness(req: Requirement, metrics: dict, baseline_metrics: dict) -> float:
+    """Robustness of a ``no_worse_than_baseline`` requirement (``no_worse_robustness`` on its metric and floor)."""
+    return no_worse_robustness(metrics, baseline_metrics, req.metric, req.rollback_floor_m)
 
 
 def evaluate(reqs: list[Requirement], trace, metrics: dict | None = None, baseline_metrics: dict | None = None

@@ -20,7 +20,7 @@ import numpy as np
 
 from vehicle_assist.io.results import atomic_path, atomic_write_bytes, write_json
 from vehicle_assist.verification.envelope import Envelope, load_envelope
-from vehicle_assist.verification.requirements import STALL_PENALTY, get_requirement
+from vehicle_assist.verification.requirements import get_requirement, no_worse_robustness
 
 ROLLBACK_FLOOR_M = 0.01  # issue #7 item 1: rollback <= max(1 cm, the unassisted rollback)
 JERK_BOUND_MPS3 = 0.1  # paper 001 P8, hill_start_ehb.md 5.2
@@ -105,17 +105,10 @@ def run_points(env: Envelope, points: list[dict], baseline: bool = True, chunk: 
 
 
 def no_worse_margin(m: dict, b: dict) -> float:
-    """Robustness of "never worse than no assist" (m): max(1 cm, baseline rollback) - rollback, or the
-    stall penalty if the assist stalls an engine the baseline does not (issue #7 item 1)."""
-    rb, rb0 = m.get("rollback_distance_m", math.nan), b.get("rollback_distance_m", math.nan)
-    if math.isnan(rb) and not math.isnan(rb0):
-        # the assisted run has no rollback value where its twin has one: worse (a NaN margin was 'not counted',
-        # the hole the issue #9 review closed in verification/requirements.py)
-        return float(STALL_PENALTY)
-    r = max(ROLLBACK_FLOOR_M, rb0) - rb
-    if m.get("engine_stalled_flag", 0.0) >= 0.5 and b.get("engine_stalled_flag", 0.0) < 0.5:
-        r = min(r, STALL_PENALTY)
-    return float(r)
+    """Robustness of "never worse than no assist" (m): max(1 cm, baseline rollback) - rollback, the stall penalty if
+    the assist stalls an engine the baseline does not or has no rollback value where the baseline has one (issue #7
+    item 1; the same rule as the requirement kind no_worse_than_baseline)."""
+    return no_worse_robustness(m, b, "rollback_distance_m", ROLLBACK_FLOOR_M)
 
 
 def envelope_study(envelope: str | Envelope, levels: dict, out: Path, sets: list[str] | None = None, console=None,
