@@ -73,8 +73,9 @@ the flat tire without lateral force and the car spun toward the blown side. Fron
 Compensating wheel (front and rear) limited by what its tire measurably gives (``tire_capacity_flag``, 0 = seeded defect;
 issue #10 round 3, ``tire_capacity_check`` / ``tire_capacity_rule``): the ECU plans from its nominal mu 0.8; on a
 wet road that brakes the front wheel deep past its linear region and the lost front lateral force carries the car
-out of a curve (CMA-ES seed 2026: 9 front points worse than none). From measurements only (force-slip idea of
-Gustafsson, Automatica 33(6), 1997): F_x = (K_b*p_est + J*omega_dot)/R, slip from the wheel speed against the
+out of a curve (CMA-ES seed 2026: 9 front points worse than none). From measurements only (derived: the Dugoff
+saturation of spec 2.3 inverted, as the Dugoff fit in braking intervals of Villagra et al., Control Engineering
+Practice 19 (2011); not Gustafsson's 1997 slip-slope method, which reads friction from the low-slip slope): F_x = (K_b*p_est + J*omega_dot)/R, slip from the wheel speed against the
 reference, q = F_x/(C_x*s/(1 - s)) = Dugoff f(H); q < 0.8 (CAP_FORCE_RATIO) at s > 1 % for 20 ms with a measured
 capacity mu*F_z = 2*H*C_x*s/(1 - s) (H = 1 - sqrt(1 - q)) below the nominal mu latches a low-friction limit: the
 target drops to the H = 1 force mu_est*F_z/2 and to the plan re-scaled to mu_est (never below the driver's pressure),
@@ -287,8 +288,8 @@ def rear_linear_limit_mu(target, fz_straight_n, a_y, mu, p):
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def tire_capacity_check(p_wheel_pa, vw_now, vw_prev, v_ref, dt, gain_nm_per_pa, p):
-    """Force-slip estimate of one braked wheel from measurements only (slip-based friction estimation, Gustafsson,
-    Automatica 33(6), 1997: the tire's force against its slip tells how much friction it has): brake force
+    """Force-slip estimate of one braked wheel from measurements only (derived: the Dugoff saturation of spec 2.3
+    inverted, cf. the Dugoff fit of Villagra et al., Control Engineering Practice 19 (2011)): brake force
     F_x = (K_b*p + J*d(omega)/dt)/R (wheel spin balance J*omega_dot = F_x*R - T_b, T_b = K_b*p the ECU's nominal brake
     gain on its pressure estimate), slip s = (v_ref - omega*R)/v_ref, and the ratio q = F_x/(C_x*s/(1 - s)) to the
     nominal linear force: Dugoff gives q = f(H) (1 in the linear region, H*(2 - H) below it, spec 2.3). Returns
