@@ -193,6 +193,7 @@ class SedanBlowoutCompensation(Strict):
     slip_limit_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #10 falsification)
     stability_refusal_flag: Annotated[int, Field(ge=0, le=1)] = 1  # refusal beyond the stable region; 0 = defect
     tire_capacity_flag: Annotated[int, Field(ge=0, le=1)] = 1  # compensating wheel limited by its measured tire force; 0 = defect
+    signal_filter_flag: Annotated[int, Field(ge=0, le=1)] = 1  # limits judged on filtered wheel signals with persistence; 0 = defect (raw samples)
 
     @model_validator(mode="after")
     def _order(self):
