@@ -3,7 +3,8 @@
 An envelope file (``data/envelopes/<function>.toml``) names a base scenario and the dimensions along
 which it varies, each with its source:
 
-* ``[ranges.NAME]`` continuous: ``path`` (a dotted scenario path, as for ``--set``), ``min``, ``max``.
+* ``[ranges.NAME]`` continuous: ``path`` (a dotted scenario path, as for ``--set``), ``min``, ``max``;
+  or ``paths`` (a list of dotted paths) when one value sets several (the four wheel-speed sensors' noise).
 * ``[choices.NAME]`` discrete: ``options.OPTION = { "dotted.path" = value, ... }``; one option may set
   several paths (a surface sets rolling resistance and adhesion); a path whose first part is a profile
   name sets a parameter of that profile (``"accelerator.rate_per_s" = 5.0``).
@@ -65,7 +66,8 @@ class Interval(Strict):
 
 
 class RangeSpec(Strict):
-    path: str = Field(min_length=3)
+    path: str | None = Field(default=None, min_length=3)
+    paths: list[Annotated[str, Field(min_length=3)]] | None = Field(default=None, min_length=1)
     min: float
     max: float
     source: Source
@@ -73,9 +75,18 @@ class RangeSpec(Strict):
 
     @model_validator(mode="after")
     def _order(self):
+        if (self.path is None) == (self.paths is None):
+            raise ValueError("give exactly one of path (one scenario path) or paths (a list: one value sets them all)")
+        if self.paths is not None and len(set(self.paths)) != len(self.paths):
+            raise ValueError("paths: a path is listed twice")
         if not self.min < self.max:
             raise ValueError(f"min = {self.min:g} must be below max = {self.max:g}")
         return self
+
+    @property
+    def targets(self) -> list[str]:
+        """The scenario paths this range sets (one value written to each)."""
+        return [self.path] if self.path is not None else list(self.paths)
 
 
 class ChoiceSpec(Strict):
@@ -360,7 +371,8 @@ class Envelope:
         params = {p: {k: v for k, v in prof.params.items() if not isinstance(v, Interval)} for p, prof in m.profiles.items()}
         for name, r in m.ranges.items():
             if name in point:
-                paths[r.path] = point[name]
+                for target in r.targets:
+                    paths[target] = point[name]
         for d in self.dims:
             if "." in d.name and d.name.split(".", 1)[0] in m.profiles and d.name in point:
                 p, k = d.name.split(".", 1)
