@@ -77,3 +77,11 @@ def test_bad_path_in_list_reported_by_validation(tmp_path):
     with pytest.raises(InputError) as err:
         _env(tmp_path, text)
     assert "wheel_speed_xx" in str(err.value)
+
+
+def test_integer_range_writes_a_whole_number(tmp_path):
+    """An ``integer = true`` range (the noise seed) writes 12, not 12.0 (the scenario schema takes only whole seeds)."""
+    env = _env(tmp_path, HEAD + '[ranges.seed]\npath = "run.seed"\nmin = 0\nmax = 9999\ninteger = true\nsource = "test"\n')
+    point = env.unit_to_point([12.2 / 9999])
+    assert env.sets(point) == ["run.seed=12"]
+    assert env.scenario(point).model.run.seed == 12

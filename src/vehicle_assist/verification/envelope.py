@@ -371,8 +371,9 @@ class Envelope:
         params = {p: {k: v for k, v in prof.params.items() if not isinstance(v, Interval)} for p, prof in m.profiles.items()}
         for name, r in m.ranges.items():
             if name in point:
+                value = int(round(float(point[name]))) if r.integer else point[name]  # a whole number (run.seed)
                 for target in r.targets:
-                    paths[target] = point[name]
+                    paths[target] = value
         for d in self.dims:
             if "." in d.name and d.name.split(".", 1)[0] in m.profiles and d.name in point:
                 p, k = d.name.split(".", 1)
