@@ -165,8 +165,11 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
     b_r = 0.5 * p.chassis_rear_track_m
     pos_x = np.array([l_f, l_f, -l_r, -l_r])
     pos_y = np.array([b_f, -b_f, b_r, -b_r])
+    # plant truth: the pads' actual friction is brakes_gain_scale_frac x nominal; the ECU plans with the nominal
+    # p.brakes_*_gain_nm_per_pa (functions/), so a gain error is testable (issue #10)
     gain = np.array([p.brakes_front_gain_nm_per_pa, p.brakes_front_gain_nm_per_pa,
-                     p.brakes_rear_gain_nm_per_pa, p.brakes_rear_gain_nm_per_pa])
+                     p.brakes_rear_gain_nm_per_pa, p.brakes_rear_gain_nm_per_pa]) * p.brakes_gain_scale_frac
+    cx_true = p.tires_longitudinal_stiffness_n * p.tires_longitudinal_stiffness_scale_frac  # plant truth likewise
     c_y = np.array([p.tires_cornering_stiffness_front_n_per_rad, p.tires_cornering_stiffness_front_n_per_rad,
                     p.tires_cornering_stiffness_rear_n_per_rad, p.tires_cornering_stiffness_rear_n_per_rad])
     side_set = np.array([int(p.surface_left), int(p.surface_right), int(p.surface_left), int(p.surface_right)])
@@ -360,7 +363,7 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
                 fy[i] = 0.0
                 damp[i] = 0.0
             else:
-                kx = p.tires_longitudinal_stiffness_n
+                kx = cx_true
                 ky = c_y[i]
                 if i == blown and phi > 0.0:
                     kx *= bo.stiffness_factor(phi, p.blowout_longitudinal_stiffness_frac)

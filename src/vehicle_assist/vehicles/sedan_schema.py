@@ -49,6 +49,8 @@ class SedanTires(Strict):
     longitudinal_stiffness_n: Annotated[float, Field(gt=1e3, le=1e6)]
     cornering_stiffness_front_n_per_rad: Annotated[float, Field(gt=1e3, le=1e6)]
     cornering_stiffness_rear_n_per_rad: Annotated[float, Field(gt=1e3, le=1e6)]
+    # plant truth: actual C_x / longitudinal_stiffness_n (the ECU keeps the nominal C_x); 1 = as designed
+    longitudinal_stiffness_scale_frac: Annotated[float, Field(gt=0, le=3)] = 1.0
 
 
 class SedanSurface(Strict):
@@ -84,6 +86,8 @@ class SedanBrakes(Strict):
     pad_friction_coeff: Annotated[float, Field(gt=0.05, le=1)]
     efficiency_frac: Annotated[float, Field(gt=0.5, le=1)]
     friction_faces_count: Annotated[float, Field(ge=1, le=2)]
+    # plant truth: actual pad friction / pad_friction_coeff (the ECU keeps the nominal gain); 1 = as designed
+    gain_scale_frac: Annotated[float, Field(gt=0, le=2)] = 1.0
 
 
 class SedanEspUnit(Strict):
