@@ -403,6 +403,7 @@ def build_scenario_record(sc: LoadedScenario, where: str) -> dict:
         "record_period_s": m.run.record_period_s,
         "initial_position_m": m.run.initial_position_m,
         "initial_speed_mps": m.run.initial_speed_kph * KPH_TO_MPS,
+        "initial_lateral_speed_mps": m.run.initial_lateral_speed_mps,
     }
     for key, value in sc.vehicle.flat().items():
         if key.endswith("_period_s"):

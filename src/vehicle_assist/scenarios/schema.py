@@ -107,6 +107,8 @@ class Run(Strict):
     seed: Annotated[int, Field(ge=0)] = 0
     initial_speed_kph: Annotated[float, Field(ge=-50, le=250)] = 0.0
     initial_position_m: Distance = 0.0
+    # body-axis lateral speed v at the start (left +; two-track layouts only, e.g. a car already sliding sideways)
+    initial_lateral_speed_mps: Annotated[float, Field(ge=-50, le=50)] = 0.0
 
     @model_validator(mode="after")
     def _rates(self):
