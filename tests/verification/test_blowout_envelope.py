@@ -20,11 +20,16 @@ def env(request):
 
 
 def test_new_dimensions_with_sources(env):
-    for name in ("wheel_speed_noise", "noise_seed", "brake.start_s", "brake.level_frac", "brake.rate_per_s", "braking"):
+    for name in ("wheel_speed_noise", "noise_seed", "brake.start_s", "brake.level_frac", "brake.rate_per_s", "braking",
+                 "brake_gain"):
         assert len(env.dim(name).source) > 20, name
     noise = env.dim("wheel_speed_noise")
     assert (noise.lo, noise.hi) == (0.0, 0.3)
     assert set(env.dim("braking").options) == {"none", "brakes"}
+    gain = env.dim("brake_gain")
+    assert gain.lo < 0.85 and gain.hi > 1.15  # covers the review's -15 % break point and SAE J866 code F (+18 %)
+    sets = env.sets(dict(env.center(), brake_gain=0.8), baseline=True)
+    assert "vehicle.brakes.gain_scale_frac=0.8" in sets  # plant truth in both twins; the ECU keeps the nominal
     # the braking window straddles the blowout (t_b = 1 s in the SUV file): before, at and after it
     import tomllib
     from importlib import resources
