@@ -10,7 +10,8 @@ Per plant step (default 1 ms; the scenarios of paper 002 use 0.5 ms):
 3. booster and master cylinder; per wheel the ESP unit mode -> wheel pressure -> brake torque capacity;
 4. loads (quasi-static transfer with the previous step's accelerations), tire forces at the present state,
    record, then advance the body (semi-implicit Euler) and the wheels (linearly implicit tire term).
-The car is held at rest below STOP_SPEED_MPS; the run ends ``STOP_AFTER_S`` after that.
+The car is held at rest once the planar speed and the yaw rate are both small (two_track.at_rest); the run ends
+``STOP_AFTER_S`` after that.
 """
 from __future__ import annotations
 
@@ -33,6 +34,7 @@ from vehicle_assist.plant.brakes.master_cylinder import master_pressure_pa, prop
 from vehicle_assist.plant.chassis.load_transfer import wheel_loads
 from vehicle_assist.plant.chassis.two_track import (
     STOP_SPEED_MPS,
+    at_rest,
     body_forces,
     braking_slip,
     wheel_kinematics,
@@ -165,6 +167,7 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
     b_r = 0.5 * p.chassis_rear_track_m
     pos_x = np.array([l_f, l_f, -l_r, -l_r])
     pos_y = np.array([b_f, -b_f, b_r, -b_r])
+    lever = max(math.sqrt(l_f * l_f + b_f * b_f), math.sqrt(l_r * l_r + b_r * b_r))  # farthest contact point from the CG
     # plant truth: the pads' actual friction is brakes_gain_scale_frac x nominal; the ECU plans with the nominal
     # p.brakes_*_gain_nm_per_pa (functions/), so a gain error is testable (issue #10)
     gain = np.array([p.brakes_front_gain_nm_per_pa, p.brakes_front_gain_nm_per_pa,
@@ -200,7 +203,7 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
 
     # state
     u = s.initial_speed_mps
-    v = 0.0
+    v = s.initial_lateral_speed_mps
     r = 0.0
     gx = 0.0
     gy = 0.0
@@ -351,8 +354,9 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
             d_i = delta if i < 2 else 0.0
             vl, tan_a = wheel_kinematics(u, v, r, d_i, pos_x[i], pos_y[i])
             vlong[i] = vl
-            if not held and vl > 0.0 and omega[i] * rw[i] > vl:
-                omega[i] = vl / rw[i]  # no drive torque on these wheels: an over-speeding wheel rolls with the ground
+            if not held and omega[i] * rw[i] > max(vl, 0.0):
+                # no drive torque on these wheels: an over-speeding wheel rolls with the ground (it cannot roll backward)
+                omega[i] = max(vl, 0.0) / rw[i]
             sl = braking_slip(vl, omega[i], rw[i]) if not held else 0.0
             slip[i] = sl
             c1 = BURCKHARDT_SETS[side_set[i], 0]
@@ -386,6 +390,8 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
         m_z = yaw_moment(xb[0], xb[1], xb[2], xb[3], yb[0], yb[1], yb[2], yb[3], l_f, l_r, b_f, b_r)
         f_drag = 0.5 * RHO_AIR_KGPM3 * p.body_drag_area_m2 * u * abs(u)
         f_roll = m * G * p.body_rolling_resistance_coeff if u > 0.0 else 0.0
+        if u < 0.0:  # rolling backward (a car spinning or sliding at low speed): the resistance opposes u
+            f_roll = -m * G * p.body_rolling_resistance_coeff
         a_x_new = (sum_x - f_drag - f_roll) / m if not held else 0.0
         a_y_new = sum_y / m if not held else 0.0
 
@@ -515,7 +521,7 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
         gx += (u * math.cos(psi) - v * math.sin(psi)) * dt
         gy += (u * math.sin(psi) + v * math.cos(psi)) * dt
         dist += math.sqrt(u * u + v * v) * dt
-        if u <= STOP_SPEED_MPS:
+        if at_rest(u, v, r, lever):  # every contact point slow (was: u alone, which froze a car sliding sideways)
             held = True
             held_since = t + dt
             u = 0.0

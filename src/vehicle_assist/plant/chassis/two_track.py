@@ -14,7 +14,16 @@ Wheel:  J*d(omega)/dt = -F_x*r_w - T_b (brake a capacity; locked wheel held at o
 Integration (semi-implicit Euler): the tire force is stiff in omega at low speed (d F_x/d omega ~
 C_x*r/v), so the wheel step is linearly implicit in the tire term: omega+ = omega + dt*T/(J + dt*k),
 k = r^2*max(0, -dF_x/ds)/max(v_long, v_eps) >= 0 (exact for a linear tire, unconditionally stable).
-Standstill: below ``STOP_SPEED_MPS`` with the brakes applied the car is held (u = v = r = 0).
+Low speed (issue #10, the stop freeze): the slip angle is the SAE J670 / ISO 8855 one, tan(alpha_t) =
+-v_lat/|v_long| in wheel axes (Pacejka, Tire and Vehicle Dynamics, 3rd ed. 2012, sec. 1.2, with |V_cx|), with
+the singular denominator bounded below by ``SLIP_SPEED_EPS_MPS`` as the braking slip already is (brake_assist.md
+4.3; the same minimum-denominator regularisation as e.g. PhysX vehicle2's minLatSlipDenominator). Below that
+speed a sideways sliding tire acts as a stiff damper (F_y = C_y*v_lat/v_eps until it saturates at mu*F_z): a car
+sliding sideways with u ~ 0 decelerates at ~mu*g and comes to rest, the force always opposes the slip velocity
+(no energy is created). At and above v_eps the slip angle is computed exactly as before.
+Standstill: the car is held (u = v = r = 0) once every contact point is slow: the planar speed sqrt(u^2 + v^2)
+and |r| times the largest wheel lever are both below ``STOP_SPEED_MPS`` (:func:`at_rest`). (Before: u alone,
+which froze a car still sliding or spinning sideways.)
 """
 from __future__ import annotations
 
@@ -34,9 +43,16 @@ def wheel_kinematics(u, v, r, delta, x_i, y_i):
     c = math.cos(delta)
     s = math.sin(delta)
     v_long = vx * c + vy * s
-    if vx <= 1e-3:
-        return v_long, 0.0
-    return v_long, math.tan(delta - math.atan2(vy, vx))
+    if vx > 1e-3 and v_long >= SLIP_SPEED_EPS_MPS:
+        return v_long, math.tan(delta - math.atan2(vy, vx))  # = -v_lat/v_long (unchanged form above v_eps)
+    v_lat = vy * c - vx * s
+    return v_long, (0.0 - v_lat) / max(abs(v_long), SLIP_SPEED_EPS_MPS)  # 0.0 - x: no negative zero
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def at_rest(u, v, r, lever_m):
+    """True when every contact point moves slower than STOP_SPEED_MPS: planar CG speed and yaw rate x lever."""
+    return math.sqrt(u * u + v * v) <= STOP_SPEED_MPS and abs(r) * lever_m <= STOP_SPEED_MPS
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
