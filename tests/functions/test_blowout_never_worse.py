@@ -14,7 +14,13 @@ import vehicle_assist as va
 BASE_ON, BASE_OFF = "blowout_lf_60kph_paper", "blowout_lf_60kph_off"
 # the code before the rear fixes: neither the nominal rear slip limit nor the measured tire capacity (round 3: the
 # capacity rule alone already keeps these points below none, so both are switched off for the negative control)
-NO_REAR_LIMITS = ["vehicle.blowout_compensation.slip_limit_flag=0", "vehicle.blowout_compensation.tire_capacity_flag=0"]
+# Wheel-speed noise fix (signal_filter_flag, tests/functions/test_blowout_noise.py): the code before each rule also judged
+# raw wheel samples; with the filtered reference speed (rate-bounded max of the wheels' moving means) several of these
+# points are no longer worse than none even without the rule, so every negative control below switches the filter
+# off too (RAW) - it then reproduces the code before the rule exactly.
+RAW = ["vehicle.blowout_compensation.signal_filter_flag=0"]
+NO_REAR_LIMITS = ["vehicle.blowout_compensation.slip_limit_flag=0", "vehicle.blowout_compensation.tire_capacity_flag=0",
+                  *RAW]
 METRIC = "blowout_lateral_deviation_run_max_m"
 # (name, speed km/h, road friction scale, detection delay s, blown wheel, driver, lane radius m) as found
 CASES = [
@@ -70,7 +76,7 @@ def refusal_case(request):
     sets = _sets(*request.param[1:])
     return {"on": _run(BASE_ON, sets), "off": _run(BASE_OFF, sets),
             "defect": _run(BASE_ON, sets + ["vehicle.blowout_compensation.stability_refusal_flag=0",
-                                             "vehicle.blowout_compensation.tire_capacity_flag=0"])}
+                                             "vehicle.blowout_compensation.tire_capacity_flag=0", *RAW])}
 
 
 def test_refusal_fires_beyond_the_stable_region(refusal_case):
@@ -127,7 +133,7 @@ def test_low_friction_rear_points_fail_without_the_measured_capacity(c):
     """Round 3 negative control: with the f(H) >= 1 - s rear limit planned from the nominal mu 0.8 alone
     (tire_capacity_flag = 0) both points are worse than none again (0.81 vs 0.68 m, 0.83 vs 0.80 m)."""
     sets = _sets(*c[1:])
-    assert _dev(BASE_ON, sets + ["vehicle.blowout_compensation.tire_capacity_flag=0"]) > _dev(BASE_OFF, sets)
+    assert _dev(BASE_ON, sets + ["vehicle.blowout_compensation.tire_capacity_flag=0", *RAW]) > _dev(BASE_OFF, sets)
 
 
 # Issue #10 round 3: class (a) of the CMA-ES seed 2026 budget 64 --keep-going search (front blowouts, lane follower,
@@ -148,7 +154,7 @@ FRONT_LOW_MU_CASES = [
 def front_case(request):
     sets = _sets(*request.param[1:])
     return {"on": _dev(BASE_ON, sets), "off": _dev(BASE_OFF, sets),
-            "defect": _dev(BASE_ON, sets + ["vehicle.blowout_compensation.tire_capacity_flag=0"])}
+            "defect": _dev(BASE_ON, sets + ["vehicle.blowout_compensation.tire_capacity_flag=0", *RAW])}
 
 
 def test_front_low_friction_point_no_worse(front_case):

@@ -86,6 +86,14 @@ def _ecu_run(params, flag, braking=0.0, mu_road=0.35, s=0.10):
     assert bc.MODES[int(st[bc.S_MODE])] in ("BUILD", "HOLD")
     fz = st[bc.S_FZ_TARGET]
     _, p_rf = _steady(p, mu_road, fz, s)
+    # the wheel slows into its slip over 8 periods (a wheel cannot step: the filtered deceleration, signal_filter_flag,
+    # would read a step as 8 periods of infinite deceleration), its pressure the plant balance of the Dugoff force at
+    # each slip plus the torque that decelerates the wheel, J*|omega_dot| (spin balance J*omega_dot = F_x*R - T_b)
+    n_ramp = 8
+    t_dec = p.body_wheel_inertia_kgm2 * (V * s / (n_ramp * dt)) / p.body_wheel_radius_m  # J*|omega_dot| [N*m]
+    for k in range(1, n_ramp + 1):
+        _, p_k = _steady(p, mu_road, fz, s * k / n_ramp)
+        step((FAST, V * (1.0 - s * k / n_ramp), V, V), 1.0, (0, p_k + t_dec / p.brakes_front_gain_nm_per_pa, 0, 0))
     for _ in range(10):  # 50 ms out of the linear region
         step((FAST, V * (1.0 - s), V, V), 1.0, (0, p_rf, 0, 0))
     return st, int(req[1]), p_rf

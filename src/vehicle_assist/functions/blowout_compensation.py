@@ -81,6 +81,17 @@ capacity mu*F_z = 2*H*C_x*s/(1 - s) (H = 1 - sqrt(1 - q)) below the nominal mu l
 target drops to the H = 1 force mu_est*F_z/2 and to the plan re-scaled to mu_est (never below the driver's pressure),
 above it the added pressure is dumped. Not while the driver brakes (the wheel's pressure is then partly the
 driver's). A rear target is also held to ``rear_linear_limit_mu`` at the measured friction (its lateral share).
+Wheel-speed noise (``signal_filter_flag``, 0 = seeded defect = raw samples; issue #10 independent review): both limits
+above judge filtered wheel signals - a moving mean over WS_WINDOW_N = 8 ESP periods per wheel (speed, slip, the ECU's
+pressure estimate on the same window) and the least-squares slope over the same window for the wheel deceleration
+(``wheel_accel_mps2``); the compensating wheel's slip is taken against the mean of the two free-rolling intact wheels
+when the driver does not brake (``slip_reference_mps``; the rate-bounded max reference rides the upper edge of the
+noise), the reference speed is the rate-bounded max of the moving means carried to now with the measured a_x. The rear
+limit acts after SLIP_PERSIST_S above its cap (hysteresis SLIP_HYST_FRAC), lowers the target to the window's pressure
+scaled to the cap slip, and lowers it again only on a fresh window (latched otherwise: re-building into a rear tire at
+its limit is what started the spins of the falsification, docs/functions/tire_blowout.md). 0.1 / 0.2 rad/s of noise on
+the four wheel speeds had taken the shipped RR 60 km/h run from 0.72 m to 2.46 / 7.47 m (= none); now 0.45 / 0.52 /
+0.70 m at 0 / 0.1 / 0.2 rad/s.
 Optional closed loop (``closed_loop_flag``): in HOLD, yaw toward the blown side above the deadband adds
 pulsed build on the braking wheel, yaw away from it dumps; otherwise hold.
 """
@@ -125,8 +136,20 @@ Q_NONE, Q_BUILD, Q_HOLD, Q_RELEASE, Q_PULSE = range(5)
 S_MODE, S_BLOWN, S_SUSPECT, S_SUSPECT_S, S_T_DET, S_M_EST, S_P_REQ, S_T_VALVE, S_ELAPSED, S_TARGET, S_SATURATED, \
     S_SLIP_EST, S_LIMIT_CODE, S_MODE_ELAPSED, S_VREF, S_STARTED, S_EXCLUDED, S_REJECTED, S_SOURCES, S_CLEAR_S, \
     S_P_ADD, S_P_START, S_SLIP_CAP, S_SLIP_LIMITED, S_FZ_TARGET, S_BETA_EST, S_VW_PREV, S_LOW_S, S_CAP_LATCHED, \
-    S_F_CAP = range(30)
-STATE_SIZE = 30
+    S_F_CAP, S_BUF_LAST, S_BUF_FILL, S_SLIP_HIGH_S = range(33)
+# wheel-signal filter (``signal_filter_flag``): ring buffers of the last WS_WINDOW_N wheel speeds [m/s] and the ECU's
+# wheel-pressure estimates [Pa], 4 wheels each, written every ESP period (reference_step / blowout_step)
+WS_WINDOW_N = 8  # assumed: 8 ESP periods = 40 ms: the moving mean cuts white wheel-speed noise by sqrt(8) = 2.8 and
+#   the least-squares slope's noise to 1/(dt*sqrt(N*(N^2 - 1)/12)) = 1/(6.5*dt) of a sample's, 9 x less than the
+#   one-period difference (sqrt(2)/dt); the window (centre 17.5 ms old) is short against the valve build
+#   (t2 = 0.2 s, tire_blowout.md 7) and the 50 ms detection delay
+S_VW_BUF = 33
+S_P_BUF = S_VW_BUF + 4 * WS_WINDOW_N
+STATE_SIZE = S_P_BUF + 4 * WS_WINDOW_N
+SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
+#   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
+SLIP_HYST_FRAC = 0.1  # assumed: the limit, once acting, stops only below 0.9*cap (hysteresis; 10 % of a 3-5 % cap is
+#   0.3-0.5 % slip, > 2 sigma of the filtered slip at 0.2 rad/s wheel-speed noise and 60 km/h)
 # detection sources (S_SOURCES): bit 1 wheel speeds, bit 2 TPMS
 SRC_WS, SRC_TPMS = 1, 2
 RISE_MARGIN_MPS2 = 2.0  # assumed: the BJ2500 cannot speed up faster than a_x,meas + 2 m/s^2 (0-100 km/h in ~14 s)
@@ -152,7 +175,89 @@ def initial_state() -> np.ndarray:
     st[S_TARGET] = -1.0
     st[S_EXCLUDED] = -1.0
     st[S_REJECTED] = -1.0
+    st[S_BUF_LAST] = -1.0
     return st
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def _push_wheels(st, vw):
+    """Write this period's four wheel speeds into the ring buffer (called once per period, by reference_step)."""
+    n = WS_WINDOW_N
+    k = (int(st[S_BUF_LAST]) + 1) % n
+    for i in range(4):
+        st[S_VW_BUF + i * n + k] = vw[i]
+    st[S_BUF_LAST] = k
+    st[S_BUF_FILL] = min(st[S_BUF_FILL] + 1.0, float(n))
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def _push_pressures(st, p_est):
+    """This period's wheel-pressure estimates into the slot of this period's wheel speeds (blowout_step)."""
+    n = WS_WINDOW_N
+    k = max(int(st[S_BUF_LAST]), 0)
+    for i in range(4):
+        st[S_P_BUF + i * n + k] = p_est[i]
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def _window_mean(st, base, i):
+    """Mean of wheel i's buffered samples (moving mean over the filled part of the window)."""
+    n = WS_WINDOW_N
+    m = max(int(st[S_BUF_FILL]), 1)
+    k = int(st[S_BUF_LAST])
+    acc = 0.0
+    for j in range(m):
+        acc += st[base + i * n + (k - j) % n]
+    return acc / m
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def wheel_speed_mean(st, i):
+    """Wheel i's speed [m/s], moving mean over the last WS_WINDOW_N ESP periods (value at the window centre)."""
+    return _window_mean(st, S_VW_BUF, i)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def wheel_pressure_mean(st, i):
+    """The ECU's wheel-pressure estimate of wheel i, averaged over the same window as ``wheel_speed_mean``."""
+    return _window_mean(st, S_P_BUF, i)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def slip_reference_mps(st, b, tg, v_ref, braking):
+    """Speed the compensating wheel ``tg``'s filtered slip is taken against (signal_filter_flag): without the
+    driver's brake the two intact wheels that are neither blown (b) nor braked by the compensation roll free, and the
+    mean of their moving means is the car's speed without selection bias; the rate-bounded ``v_ref`` follows the
+    highest wheel up at 2 m/s^2 but falls only at the 0.05 m/s^2 margin, so with noise it rides the upper edge of the
+    noise (+2 sigma of the filtered wheels: +0.36 % slip at 60 km/h and 0.2 rad/s, 10 % of a 3.5 % rear cap). While
+    the driver brakes every wheel slips: ``v_ref`` (the ABS reference)."""
+    if braking > 0.5 or b < 0 or tg < 0:
+        return v_ref
+    acc = 0.0
+    for i in range(4):
+        if i != b and i != tg:
+            acc += 0.5 * wheel_speed_mean(st, i)
+    return acc
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def wheel_accel_mps2(st, i, dt):
+    """Wheel i's circumferential acceleration [m/s^2]: least-squares slope of its last WS_WINDOW_N speed samples
+    (first-derivative Savitzky-Golay filter of degree 1: Savitzky and Golay, Analytical Chemistry 36 (1964) 1627),
+    the derivative at the window centre, as ``wheel_speed_mean``; 0 with fewer than 2 samples."""
+    n = WS_WINDOW_N
+    m = int(st[S_BUF_FILL])
+    if m < 2:
+        return 0.0
+    k = int(st[S_BUF_LAST])
+    tbar = 0.5 * (m - 1)
+    num = 0.0
+    den = 0.0
+    for j in range(m):
+        tj = (m - 1 - j) - tbar  # sample j periods old at time index m - 1 - j
+        num += tj * st[S_VW_BUF + i * n + (k - j) % n]
+        den += tj * tj
+    return num / (den * max(dt, 1e-6))
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -297,6 +402,13 @@ def tire_capacity_check(p_wheel_pa, vw_now, vw_prev, v_ref, dt, gain_nm_per_pa, 
     2*H*C_x*s/(1 - s) (alpha = 0 form; with a lateral force it under-states the capacity: conservative)."""
     r_w = p.body_wheel_radius_m
     omega_dot = (vw_now - vw_prev) / (r_w * max(dt, 1e-6))
+    return tire_capacity_estimate(p_wheel_pa, vw_now, omega_dot, v_ref, gain_nm_per_pa, p)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def tire_capacity_estimate(p_wheel_pa, vw_now, omega_dot, v_ref, gain_nm_per_pa, p):
+    """``tire_capacity_check`` with the wheel's angular acceleration given (raw difference or the filtered slope)."""
+    r_w = p.body_wheel_radius_m
     fx = (gain_nm_per_pa * max(p_wheel_pa, 0.0) + p.body_wheel_inertia_kgm2 * omega_dot) / r_w
     s = min(max((v_ref - vw_now) / max(v_ref, 1.0), 0.0), 0.99)
     lin = p.tires_longitudinal_stiffness_n * s / (1.0 - s)
@@ -373,10 +485,20 @@ def reference_step(st, vw, a_x, tpms_wheel, dt, p):
     if ex < 0 and p.blowout_compensation_enabled_flag > 0.5:
         ex = int(tpms_wheel + 0.5) - 1
     st[S_EXCLUDED] = ex if p.blowout_compensation_enabled_flag > 0.5 else -1.0
+    _push_wheels(st, vw)
+    filt = p.blowout_compensation_signal_filter_flag > 0.5
     v_max = 0.0
     for i in range(4):
         if i != ex:
-            v_max = max(v_max, vw[i])
+            # filtered (signal_filter_flag): the max of raw noisy wheels, rate-bounded up at 2 m/s^2 but down only at
+            # the 0.05 m/s^2 margin, ratchets to the upper edge of the noise (+0.2 m/s, 1.2 % slip at 60 km/h and
+            # 0.2 rad/s); the max of the wheels' moving means is the filtered selection of EP 0348072 (Lucas, ABS
+            # reference speed: wheel-speed selection, slew-rate limit, filter)
+            v_max = max(v_max, wheel_speed_mean(st, i) if filt else vw[i])
+    if filt:
+        # the moving mean is the speed at the window centre, (m - 1)/2 periods old: carried to now with the measured
+        # a_x (without it the panic stop's reference lagged 0.14 m/s at 8 m/s^2 and ABS was released at 3.6 km/h)
+        v_max += a_x * 0.5 * (st[S_BUF_FILL] - 1.0) * dt
     if st[S_STARTED] < 0.5:
         st[S_STARTED] = 1.0
         st[S_VREF] = v_max
@@ -457,6 +579,7 @@ def _plan(st, b, target, limited, slip_mean, a_x, a_y, p_est, p):
     st[S_LOW_S] = 0.0
     st[S_F_CAP] = 0.0
     st[S_VW_PREV] = -1.0
+    st[S_SLIP_HIGH_S] = 0.0
     if target >= 2 and p.blowout_compensation_slip_limit_flag > 0.5:
         # rear compensating wheel: its brake force kept inside the Dugoff linear region with the lateral force the
         # rear axle needs now (rear_linear_limit); the feed-forward pressure is capped at that force
@@ -489,6 +612,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     (kinematic sideslip estimate beta_dot = a_y/u - r, integrated from the detection); returns n_events."""
     for i in range(4):
         requests[i] = Q_NONE
+    _push_pressures(st, p_est)
     if p.blowout_compensation_enabled_flag < 0.5:
         return n_events
     r_ref = reference_yaw_rate(steer_rad, v_ref, p)
@@ -648,10 +772,38 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             # no re-build) - a rear wheel braked into saturation loses the lateral force the axle with the flat tire
             # needs, the rear swings out and the car spins toward the blown side (falsification seed 3: 12-18 % slip,
             # below ABS's 20 % threshold, 16.6 m vs 5.1 m without compensation)
-            s_tg = (v_ref - vw[tg]) / max(v_ref, 1.0)
             _, cap = rear_linear_limit(tg, st[S_FZ_TARGET], a_y_ref, p)
             st[S_SLIP_CAP] = cap
-            if s_tg > cap:
+            if p.blowout_compensation_signal_filter_flag > 0.5:
+                # filtered slip (moving mean, v_ref from the same window), persistence, hysteresis (signal_filter_flag;
+                # raw samples with 0.1 rad/s wheel-speed noise dumped and latched the target on one sample: RR 60 km/h
+                # 0.72 -> 2.5 m, 7.5 m = no compensation at 0.2 rad/s)
+                v_s = slip_reference_mps(st, b, tg, v_ref, braking)
+                s_tg = (v_s - wheel_speed_mean(st, tg)) / max(v_s, 1.0)
+                if s_tg > cap:
+                    st[S_SLIP_HIGH_S] += dt
+                elif s_tg <= (1.0 - SLIP_HYST_FRAC) * cap:
+                    st[S_SLIP_HIGH_S] = min(st[S_SLIP_HIGH_S], 0.0)
+                if st[S_SLIP_HIGH_S] >= SLIP_PERSIST_S - 1e-9 and s_tg > cap:
+                    # the target lowered to the pressure that gives the cap slip, scaled from the window's mean
+                    # pressure and slip (same window centre; slip ~ brake force ~ pressure in the linear region):
+                    # following the live estimate down while the lagging filtered slip is still above the cap
+                    # over-dumped (RR 60 km/h, no noise: 0.72 -> 3.44 m); a further lowering needs a fresh window of
+                    # evidence (the window length before the persistence counts again), not the same lagging one
+                    st[S_SLIP_LIMITED] = 1.0
+                    p_cap = wheel_pressure_mean(st, tg) * cap / max(s_tg, 1e-6)
+                    st[S_P_REQ] = max(min(st[S_P_REQ], p_cap), st[S_P_START])
+                    st[S_SLIP_HIGH_S] = -WS_WINDOW_N * dt
+                if st[S_SLIP_LIMITED] > 0.5:
+                    if p_est[tg] > st[S_P_REQ] + 1.0e5:
+                        requests[tg] = Q_RELEASE
+                    elif mode == BUILD:
+                        requests[tg] = Q_HOLD  # once limited, the build does not start again
+                over = False
+            else:
+                s_tg = (v_ref - vw[tg]) / max(v_ref, 1.0)
+                over = s_tg > cap
+            if over:
                 st[S_SLIP_LIMITED] = 1.0
                 st[S_P_REQ] = max(min(st[S_P_REQ], p_est[tg]), st[S_P_START])
                 requests[tg] = Q_RELEASE if p_est[tg] > st[S_P_START] + 1.0e5 else Q_HOLD
@@ -674,13 +826,21 @@ def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, 
     pressure, and not while the driver brakes; above
     the lowered target the added pressure is dumped, otherwise held (no further build)."""
     gain = p.brakes_front_gain_nm_per_pa if tg < 2 else p.brakes_rear_gain_nm_per_pa
-    prev = st[S_VW_PREV] if st[S_VW_PREV] >= 0.0 else vw[tg]
-    fx, s_tg, q, cap = tire_capacity_check(p_est[tg], vw[tg], prev, v_ref, dt, gain, p)
+    if p.blowout_compensation_signal_filter_flag > 0.5:
+        # filtered (signal_filter_flag): speed, pressure and the least-squares wheel deceleration over the same window
+        # (the one-period difference made J*omega_dot/R noise of +-80 N per 0.1 rad/s of wheel-speed noise)
+        v_s = slip_reference_mps(st, int(st[S_BLOWN]), tg, v_ref, braking)
+        fx, s_tg, q, cap = tire_capacity_estimate(wheel_pressure_mean(st, tg), wheel_speed_mean(st, tg),
+                                                  wheel_accel_mps2(st, tg, dt) / p.body_wheel_radius_m, v_s, gain, p)
+    else:
+        prev = st[S_VW_PREV] if st[S_VW_PREV] >= 0.0 else vw[tg]
+        fx, s_tg, q, cap = tire_capacity_check(p_est[tg], vw[tg], prev, v_ref, dt, gain, p)
     st[S_VW_PREV] = vw[tg]
+    filt = p.blowout_compensation_signal_filter_flag > 0.5
     if braking < 0.5 and p_est[tg] > st[S_P_START] + 1.0e5 and s_tg > CAP_MIN_SLIP and q < CAP_FORCE_RATIO:
         st[S_LOW_S] += dt
     else:
-        st[S_LOW_S] = 0.0
+        st[S_LOW_S] = min(st[S_LOW_S], 0.0) if filt else 0.0
     mu_est = cap / max(st[S_FZ_TARGET], 1.0)  # the friction the tire measurably has (capacity over the ECU's load)
     if st[S_LOW_S] >= CAP_PERSIST_S - 1e-9 and mu_est < p.blowout_compensation_mu_estimate_frac:
         # out of the linear region on a road with less friction than the ECU planned with: the wheel is kept at the
@@ -698,6 +858,7 @@ def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, 
             st[S_F_CAP] = f_hold
         st[S_CAP_LATCHED] = 1.0
         st[S_P_REQ] = max(min(st[S_P_REQ], st[S_F_CAP] * p.body_wheel_radius_m / gain), st[S_P_START])
+
     if st[S_CAP_LATCHED] > 0.5:
         if p_est[tg] > st[S_P_REQ] + 1.0e5 and braking < 0.5:
             requests[tg] = Q_RELEASE
