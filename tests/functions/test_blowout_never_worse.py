@@ -92,8 +92,10 @@ def test_refusal_fires_beyond_the_stable_region(refusal_case):
 
 
 def test_refusal_much_less_worse_than_the_defect(refusal_case):
-    """Negative control: without the refusal the point is a clear counterexample (>1 m worse than none)."""
-    assert refusal_case["defect"].metrics[METRIC] > refusal_case["off"].metrics[METRIC] + 1.0
+    """Negative control: without the refusal the point is a counterexample of the requirement (worse than none). It
+    was > 1 m worse while the plant froze the sliding car at u = 0 (both twins); with the plant's low-speed tyres
+    (bffdbd8) the no-compensation twin slides on and the gap is 0.50-0.58 m, so the bound is the requirement's own."""
+    assert refusal_case["defect"].metrics[METRIC] > refusal_case["off"].metrics[METRIC]
 
 
 @pytest.mark.xfail(strict=True, reason="honest FAIL (issue #10 round 2): the yaw bound is crossed 30-40 ms after "
