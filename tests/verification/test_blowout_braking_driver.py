@@ -1,0 +1,93 @@
+"""A driver who brakes around a rear blowout (issue #10: 'a panic stop right after a blowout must work'; review item 5:
+no never-worse test failed with slip_limit_flag = 0 while braking). Points of the extended envelope
+(data/envelopes/tire_blowout.toml: braking driver, wheel-speed noise, brake-gain error), found by the falsifier
+campaign and a grid around them (findings of the #10 envelope campaign, F4 and P5).
+
+References: the same blowout without compensation (paper 004 Fig. 4 curve 2; conventions.md 'Evidence'), compared as
+the requirement does (largest lateral deviation from t_b to the end of the run); and the friction limit mu*g of the
+road for a braking car (an ABS stop uses most of it: UN R13-H Annex 6 asks for an adhesion utilisation of at least
+0.75; the bound here is half the limit, far below that)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import vehicle_assist as va
+from vehicle_assist.verification.envelope import load_envelope
+
+METRIC = "blowout_lateral_deviation_run_max_m"
+G = 9.80665
+MU_PEAK_DRY = 1.17  # peak of the SUV's dry Burckhardt set; road.friction_mu scales it (tire_blowout envelope, mu source)
+NO_SLIP_LIMIT = "vehicle.blowout_compensation.slip_limit_flag=0"
+
+# Review item 5: RR blowout at 78 km/h on mu scale 0.37 (mu 0.43) in a 650 m curve, lane-following driver, light pedal
+# (80 N, ~48 bar) 0.3 s after the blowout; no noise, nominal brake gain. Found by a grid over speed x mu x driver x
+# curve x pedal (rear wheel, light pedal); its neighbourhood (75-78 km/h, mu 0.35-0.37, 70-90 N, delay 0.08-0.12 s,
+# pedal at +0.30..0.35 s) keeps the order with >= 0.22 m on both sides at bffdbd8: 0.51 m < none 0.75 m < 0.98 m.
+P5 = dict(speed=78.0, mu=0.37, delay=0.1, wheel_speed_noise=0.0, noise_seed=0, brake_gain=1.0, braking="brakes",
+          wheel="rr", driver="follow", curve="r650", **{"brake.level_frac": 0.08, "brake.start_s": 1.3, "brake.rate_per_s": 2.0})
+
+# F4 (CMA-ES seed 2026 budget 64 #57): RR at 107.8 km/h, mu scale 0.382, delay 0.47 s, follower, 650 m curve; the driver
+# brakes 164 N (98 bar master, HBA on) 0.61 s after the blowout.
+F4 = {"speed": 107.84044038487475, "mu": 0.38220997676664165, "delay": 0.4709871427852446,
+      "wheel_speed_noise": 0.0038020704162375434, "noise_seed": 6367, "brake_gain": 1.0418679260855557,
+      "brake.start_s": 1.6079657469722903, "brake.level_frac": 0.1639736652999174, "brake.rate_per_s": 17.743480952695002,
+      "braking": "brakes", "wheel": "rr", "driver": "follow", "curve": "r650"}
+
+
+@pytest.fixture(scope="module")
+def env():
+    return load_envelope("tire_blowout")
+
+
+def _run(env, point, baseline=False, sets=()):
+    sc = env.scenario(point, baseline=baseline)
+    return va.simulate(sc.with_sets(*sets) if sets else sc, requirements=False)
+
+
+@pytest.fixture(scope="module")
+def p5(env):
+    return {"on": _run(env, P5).metrics[METRIC], "off": _run(env, P5, True).metrics[METRIC],
+            "defect": _run(env, P5, sets=[NO_SLIP_LIMIT]).metrics[METRIC]}
+
+
+def test_light_braking_rear_blowout_never_worse(p5):
+    """Item 5: the rear compensating wheel kept in its linear region while the driver brakes lightly: the compensated
+    car goes less far off the lane than the same car without compensation."""
+    assert p5["on"] < p5["off"]
+
+
+def test_light_braking_rear_blowout_worse_without_slip_limit(p5):
+    """Negative control (seeded defect slip_limit_flag = 0, the rear wheel braked past the linear region): the same
+    point is then worse than no compensation - the test above can fail."""
+    assert p5["defect"] > p5["off"]
+
+
+def _decel(run, t0, t1):
+    t = np.asarray(run.trace["time_s"])
+    u = np.asarray(run.trace["speed_mps"])
+    i0, i1 = int(np.argmin(abs(t - t0))), int(np.argmin(abs(t - t1)))
+    return (u[i0] - u[i1]) / (t[i1] - t[i0])
+
+
+def _bound(point):
+    return 0.5 * MU_PEAK_DRY * point["mu"] * G
+
+
+def test_panic_stop_after_rear_blowout_brakes_with_compensation(env):
+    """Issue #10: with compensation the driver's stop works after a rear blowout: mean deceleration from 0.3 s to 1.3 s
+    after the pedal is at least half the road's friction limit. Fails with the function off (next test, strict xfail)."""
+    t0 = F4["brake.start_s"] + 0.3
+    assert _decel(_run(env, F4), t0, t0 + 1.0) >= _bound(F4)
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "finding F4: without the blowout function the ESP reference speed (functions/esp.py esp_step: v_ref = max of the "
+    "four wheel speeds) takes the blown wheel, which turns ~1.5x faster on R_in 0.24 m vs 0.359 m; every intact wheel "
+    "reads ~33 % slip and ABS holds all four at ~1 bar under a 98 bar master (~1.4 m/s^2 vs a 2.2 m/s^2 bound). Only "
+    "blowout_compensation.reference_step excludes the blown wheel, and not when enabled_flag = 0. The no-compensation "
+    "twin of the never-worse requirement therefore does not brake: the lateral row compares a braking car with one that "
+    "does not (CMA-ES 2026: 33 of 40 counterexamples)."))
+def test_panic_stop_after_rear_blowout_brakes_without_compensation(env):
+    t0 = F4["brake.start_s"] + 0.3
+    assert _decel(_run(env, F4, baseline=True), t0, t0 + 1.0) >= _bound(F4)
