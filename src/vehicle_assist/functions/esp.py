@@ -85,8 +85,9 @@ CTL_SIZE = 15
 # ends until that wheel's ABS is OFF again (independent review of issue #10: a rejected false TPMS detection
 # while braking latched the GMA on the healthy wheel it had released, 3-10 bar for ~1 s, 1.12 m off the lane)
 # per-wheel state (rows fl, fr, rl, rr)
-A_MODE, A_BUILD_S, A_VW_PREV, A_SINCE_HD_S, A_LOGGED, A_SLIP, A_DECEL, A_REQUEST, A_WHEEL_MODE, A_P_EST = range(10)
-WHEEL_STATE_SIZE = 10
+A_MODE, A_BUILD_S, A_VW_PREV, A_SINCE_HD_S, A_LOGGED, A_SLIP, A_DECEL, A_REQUEST, A_WHEEL_MODE, A_P_EST, \
+    A_INLET_OPEN_S = range(11)
+WHEEL_STATE_SIZE = 11
 
 
 def initial_state() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -97,16 +98,26 @@ def initial_state() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def _estimate(mode, p_est, p_src, dt, p):
-    """The ECU's model of a wheel pressure (nominal unit data, spec 2 simplified model)."""
+def _estimate(mode, p_est, p_src, dt, p, open_before_s=0.0):
+    """The ECU's model of a wheel pressure (nominal unit data, spec 2 simplified model). ``open_before_s``: how
+    long the inlet has already been open for a build (B/BP) before this period (accumulator dead time t0)."""
     if mode == W_N:
         return p_src
     if mode == W_B or mode == W_BP:
         rate = p.esp_unit_pump_build_rate_pa_per_s * (1.0 if mode == W_B else p.esp_unit_pulse_duty_frac)
         if p.esp_unit_pressure_source > 0.5:  # accumulator (EHB of paper 004): orifice-like fill
-            rate = max(p.esp_unit_accumulator_pa - p_est, 0.0) / p.esp_unit_accumulator_time_constant_s \
-                * (1.0 if mode == W_B else p.esp_unit_pulse_duty_frac)
-        built = min(p_est + rate * dt, max(p.esp_unit_pump_relief_pa, p_est))
+            # after the inlet's dead time t0 (tire_blowout.md 5 eq. 29; the unit passes nothing for t0 after the
+            # inlet opens, plant sedan_esp.py), then the exponential fill p_acc - (p_acc - p)*exp(-t/tau) over the
+            # part of this period past t0 (issue #10: without t0, and with one explicit Euler step per 5 ms period,
+            # the estimate read 20 bar high during the first build and 62 vs 49 bar at its end - the compensating
+            # wheel was under-built by ~22 % and the tire-capacity estimate biased high)
+            fill_s = max(open_before_s + dt - max(open_before_s, p.esp_unit_inlet_dead_time_s), 0.0)
+            tau = p.esp_unit_accumulator_time_constant_s / (1.0 if mode == W_B else p.esp_unit_pulse_duty_frac)
+            acc = p.esp_unit_accumulator_pa
+            built = acc - (acc - p_est) * math.exp(-fill_s / tau) if p_est < acc else p_est
+            built = min(built, max(p.esp_unit_pump_relief_pa, p_est))
+        else:
+            built = min(p_est + rate * dt, max(p.esp_unit_pump_relief_pa, p_est))
         if mode == W_B:  # USV check valve: a higher driver pressure flows in through the line (tau_line), as the unit
             return max(built, p_est + (p_src - p_est) * min(dt / p.esp_unit_line_time_constant_s, 1.0))
         return built  # BP: the pulsed inlet is the bottleneck, no follow of the driver (plant/brakes/esp_unit.py)
@@ -351,7 +362,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                 wm = W_HI
         wheels[i, A_WHEEL_MODE] = wm
         src = p_mc if i < 2 else _prop(p_mc, p)
-        wheels[i, A_P_EST] = _estimate(wm, wheels[i, A_P_EST], src, dt, p)
+        wheels[i, A_P_EST] = _estimate(wm, wheels[i, A_P_EST], src, dt, p, wheels[i, A_INLET_OPEN_S])
+        wheels[i, A_INLET_OPEN_S] = wheels[i, A_INLET_OPEN_S] + dt if (wm == W_B or wm == W_BP) else 0.0
     return n_events
 
 
