@@ -148,6 +148,9 @@ S_P_BUF = S_VW_BUF + 4 * WS_WINDOW_N
 STATE_SIZE = S_P_BUF + 4 * WS_WINDOW_N
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
+RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
+#   false-alarm probability ~1e-9 per sample, none in practice; 4 sigma was tried: noise 0.094 rad/s at 116 km/h then
+#   triggered it and the envelope regression point cma2026_32_rr_gain075 was 1.98 m vs 1.57 m without compensation)
 SLIP_HYST_FRAC = 0.1  # assumed: the limit, once acting, stops only below 0.9*cap (hysteresis; 10 % of a 3-5 % cap is
 #   0.3-0.5 % slip, > 2 sigma of the filtered slip at 0.2 rad/s wheel-speed noise and 60 km/h)
 # detection sources (S_SOURCES): bit 1 wheel speeds, bit 2 TPMS
@@ -221,6 +224,29 @@ def wheel_speed_mean(st, i):
 def wheel_pressure_mean(st, i):
     """The ECU's wheel-pressure estimate of wheel i, averaged over the same window as ``wheel_speed_mean``."""
     return _window_mean(st, S_P_BUF, i)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def wheel_noise_mps(st, b, tg, dt):
+    """The wheel-speed sensors' noise [m/s] as the ECU sees it: residual standard deviation of the least-squares lines
+    of the two wheels that are neither blown (b) nor the compensating wheel (tg) over the window (they roll smoothly,
+    the compensating wheel's own transient does not count); 0 until the window has 3 samples."""
+    n = WS_WINDOW_N
+    m = int(st[S_BUF_FILL])
+    if m < 3 or b < 0 or tg < 0:
+        return 0.0
+    k = int(st[S_BUF_LAST])
+    tbar = 0.5 * (m - 1)
+    acc = 0.0
+    for i in range(4):
+        if i == b or i == tg:
+            continue
+        mean = wheel_speed_mean(st, i)
+        slope = wheel_accel_mps2(st, i, 1.0)  # per period
+        for j in range(m):
+            res = st[S_VW_BUF + i * n + (k - j) % n] - (mean + slope * ((m - 1 - j) - tbar))
+            acc += res * res
+    return math.sqrt(acc / (2.0 * (m - 2)))
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -780,6 +806,11 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                 # 0.72 -> 2.5 m, 7.5 m = no compensation at 0.2 rad/s)
                 v_s = slip_reference_mps(st, b, tg, v_ref, braking)
                 s_tg = (v_s - wheel_speed_mean(st, tg)) / max(v_s, 1.0)
+                # a raw sample far above the cap (beyond RAW_SIGMAS x the noise the free wheels show) is evidence at
+                # once, without the filter's lag: the build's overshoot is caught as by the raw code (a light-braking
+                # rear point, F's P5: 0.51 m raw, 1.51 m on the filtered slip alone, none 0.75 m)
+                s_raw = (v_s - vw[tg]) / max(v_s, 1.0)
+                raw_over = s_raw > cap + RAW_SIGMAS * wheel_noise_mps(st, b, tg, dt) / max(v_s, 1.0)
                 if s_tg > cap:
                     st[S_SLIP_HIGH_S] += dt
                 elif s_tg <= (1.0 - SLIP_HYST_FRAC) * cap:
@@ -791,7 +822,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                     # over-dumped (RR 60 km/h, no noise: 0.72 -> 3.44 m); a further lowering needs a fresh window of
                     # evidence (the window length before the persistence counts again), not the same lagging one
                     st[S_SLIP_LIMITED] = 1.0
-                    p_cap = wheel_pressure_mean(st, tg) * cap / max(s_tg, 1e-6)
+                    p_cap = _cap_slip_pressure(st, tg, v_s, cap, dt, p)
                     st[S_P_REQ] = max(min(st[S_P_REQ], p_cap), st[S_P_START])
                     st[S_SLIP_HIGH_S] = -WS_WINDOW_N * dt
                 if st[S_SLIP_LIMITED] > 0.5:
@@ -799,7 +830,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                         requests[tg] = Q_RELEASE
                     elif mode == BUILD:
                         requests[tg] = Q_HOLD  # once limited, the build does not start again
-                over = False
+                over = raw_over
             else:
                 s_tg = (v_ref - vw[tg]) / max(v_ref, 1.0)
                 over = s_tg > cap
@@ -812,6 +843,26 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         if p.blowout_compensation_tire_capacity_flag > 0.5:
             tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, dt)
     return n_events
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def _cap_slip_pressure(st, tg, v_s, cap, dt, p):
+    """Pressure at which the rear compensating wheel ``tg`` runs at the cap slip, from the window's measured point on
+    its force-slip curve: the Dugoff curve with the ECU's C_x through the measured (F_x, s) (capacity inverted as in
+    ``tire_capacity_estimate``) evaluated at the cap slip, as pressure with the nominal gain. In the linear region
+    this is C_x*s_cap/(1 - s_cap); a linear scaling p*s_cap/s from a point deep in saturation (the lagging filtered
+    slip lets a build overshoot) under-states it (F rises slower than s there): a light-braking rear point fell
+    0.51 -> 1.51 m with it."""
+    gain = p.brakes_rear_gain_nm_per_pa
+    _, _, _, cap_f = tire_capacity_estimate(wheel_pressure_mean(st, tg), wheel_speed_mean(st, tg),
+                                            wheel_accel_mps2(st, tg, dt) / p.body_wheel_radius_m, v_s, gain, p)
+    x = cap / (1.0 - cap)
+    lin = p.tires_longitudinal_stiffness_n * x
+    if lin <= 0.0:
+        return 0.0
+    h = 0.5 * cap_f / lin
+    f_cap = lin * (1.0 if h >= 1.0 else h * (2.0 - h))
+    return f_cap * p.body_wheel_radius_m / gain
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -837,11 +888,15 @@ def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, 
         fx, s_tg, q, cap = tire_capacity_check(p_est[tg], vw[tg], prev, v_ref, dt, gain, p)
     st[S_VW_PREV] = vw[tg]
     filt = p.blowout_compensation_signal_filter_flag > 0.5
-    if braking < 0.5 and p_est[tg] > st[S_P_START] + 1.0e5 and s_tg > CAP_MIN_SLIP and q < CAP_FORCE_RATIO:
+    mu_est = cap / max(st[S_FZ_TARGET], 1.0)  # the friction the tire measurably has (capacity over the ECU's load)
+    # filtered (signal_filter_flag): the whole evidence must persist - saturation AND a friction below the nominal over
+    # CAP_PERSIST_S, not a saturation phase on a good road followed by one transient sample of low mu_est (closed loop
+    # LF 60 after an ABS dump/re-build: mu_est 0.88 -> 0.79 for one sample latched the target 44.5 -> 31.4 bar, E)
+    low_mu = mu_est < p.blowout_compensation_mu_estimate_frac or not filt
+    if braking < 0.5 and p_est[tg] > st[S_P_START] + 1.0e5 and s_tg > CAP_MIN_SLIP and q < CAP_FORCE_RATIO and low_mu:
         st[S_LOW_S] += dt
     else:
         st[S_LOW_S] = min(st[S_LOW_S], 0.0) if filt else 0.0
-    mu_est = cap / max(st[S_FZ_TARGET], 1.0)  # the friction the tire measurably has (capacity over the ECU's load)
     if st[S_LOW_S] >= CAP_PERSIST_S - 1e-9 and mu_est < p.blowout_compensation_mu_estimate_frac:
         # out of the linear region on a road with less friction than the ECU planned with: the wheel is kept at the
         # Dugoff H = 1 force of its measured capacity (F = mu*F_z/2, spec 2.3), and at most at the pressure re-planned
