@@ -57,6 +57,12 @@ def test_light_braking_rear_blowout_never_worse(p5):
     assert p5["on"] < p5["off"]
 
 
+@pytest.mark.xfail(strict=True, reason=(
+    "E2 (esp.reference_plausibility_flag, finding F4): the no-compensation twin's ABS no longer dumps the driver's 48 bar "
+    "(its reference speed used to ride the 1.5x-fast blown wheel: 0.749 m, hardly braking); it now brakes ~4 m/s^2 and "
+    "goes 1.765 m off (its ABS judges the blown RR wheel's slip with the nominal radius: true slip 0.3-0.45). With "
+    "slip_limit_flag = 0 the compensated car (1.059 m) is no longer worse than that fair baseline, so this point no "
+    "longer shows the never-worse test failing with the defect (on 0.628 m). To be restated by F/D."))
 def test_light_braking_rear_blowout_worse_without_slip_limit(p5):
     """Negative control (seeded defect slip_limit_flag = 0, the rear wheel braked past the linear region): the same
     point is then worse than no compensation - the test above can fail."""
@@ -76,18 +82,14 @@ def _bound(point):
 
 def test_panic_stop_after_rear_blowout_brakes_with_compensation(env):
     """Issue #10: with compensation the driver's stop works after a rear blowout: mean deceleration from 0.3 s to 1.3 s
-    after the pedal is at least half the road's friction limit. Fails with the function off (next test, strict xfail)."""
+    after the pedal is at least half the road's friction limit."""
     t0 = F4["brake.start_s"] + 0.3
     assert _decel(_run(env, F4), t0, t0 + 1.0) >= _bound(F4)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "finding F4: without the blowout function the ESP reference speed (functions/esp.py esp_step: v_ref = max of the "
-    "four wheel speeds) takes the blown wheel, which turns ~1.5x faster on R_in 0.24 m vs 0.359 m; every intact wheel "
-    "reads ~33 % slip and ABS holds all four at ~1 bar under a 98 bar master (~1.4 m/s^2 vs a 2.2 m/s^2 bound). Only "
-    "blowout_compensation.reference_step excludes the blown wheel, and not when enabled_flag = 0. The no-compensation "
-    "twin of the never-worse requirement therefore does not brake: the lateral row compares a braking car with one that "
-    "does not (CMA-ES 2026: 33 of 40 counterexamples)."))
 def test_panic_stop_after_rear_blowout_brakes_without_compensation(env):
+    """Finding F4 (was a strict xfail): without the blowout function the ESP's reference speed took the blown wheel
+    (~1.5x faster), ABS dumped every intact wheel (1.36 m/s^2). The ESP now leaves an implausibly fast wheel out of
+    its reference (esp.reference_plausibility_flag; tests/functions/test_esp_reference_plausibility.py)."""
     t0 = F4["brake.start_s"] + 0.3
     assert _decel(_run(env, F4, baseline=True), t0, t0 + 1.0) >= _bound(F4)

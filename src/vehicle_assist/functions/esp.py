@@ -3,7 +3,13 @@ per wheel through a table (issue #9). Runs every ``esp.period_s`` on the measure
 
 Per period:
 1. Reference speed from the wheel speeds: v_ref = max(max_i v_w,i, v_ref - (|a_x,meas| + margin)*dt)
-   (the car cannot slow faster than the accelerometer says; std ABS practice, Bosch Handbook).
+   (the car cannot slow faster than the accelerometer says; std ABS practice, Bosch Handbook). Wheel-signal
+   plausibility (``reference_plausibility_flag``): a wheel that, while the driver does not brake, turns faster than
+   the median of the other three by ``reference_implausible_frac`` for ``reference_implausible_time_s`` (a much
+   smaller rolling radius: blown or deflated tire, compact spare) is left out of the max until, again unbraked, it
+   is within that band for the same time; while braking the decision is frozen, so an ABS-recovering wheel (briefly
+   much faster than its slipping neighbours) is never taken for one. The test is the blowout compensation's
+   wheel-speed signature (``blowout_compensation._candidate_ws``, base = the median of the others).
 2. Pressure-sensor health: valid flag from the sensor, plus plausibility against the brake-light switch
    (switch on with p_mc below ``plausibility_pressure`` for ``plausibility_time``, or off with p_mc above it,
    latches a fault).
@@ -76,9 +82,12 @@ ABS_LOG_CAP = 60  # ABS mode changes logged per wheel (the event buffer is share
 
 # controller state vector (named indices)
 C_V_REF, C_STARTED, C_IMPLAUSIBLE_S, C_SENSOR_LATCH, C_GMA_START, C_GMA_WHEEL, C_T, C_SENSOR_OK, C_ABS_OK, \
-    C_HBA_AVAILABLE, C_SOURCE_C1, C_SOURCE_C2, C_GMA_BLOCK, C_PUMPED_C1, C_PUMPED_C2 = range(15)
+    C_HBA_AVAILABLE, C_SOURCE_C1, C_SOURCE_C2, C_GMA_BLOCK, C_PUMPED_C1, C_PUMPED_C2, C_REF_EXCLUDED, \
+    C_REF_PERSIST_S = range(17)
 SRC_UNDECIDED, SRC_PUMP, SRC_DRIVER = 0.0, 1.0, 2.0  # per circuit during an assist (C_SOURCE_C1/C2)
-CTL_SIZE = 15
+CTL_SIZE = 17
+# C_REF_EXCLUDED: wheel the reference speed leaves out as implausibly fast (-1 none); C_REF_PERSIST_S: how long the
+# pending change (a new fast wheel, or the excluded one plausible again) has persisted
 # C_PUMPED_C1/C2: 1 once the pump served the circuit in this assist (source SRC_PUMP), kept through TERMINATING
 # C_GMA_BLOCK = 1 + the front wheel the blowout compensation brakes (0 none): its ABS activity is caused by the
 # compensation's own build, not by a split-mu road, so it does not start the GMA; kept after the compensation
@@ -94,7 +103,35 @@ def initial_state() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(controller vector, per-wheel array, HBA vector)."""
     wheels = np.zeros((4, WHEEL_STATE_SIZE))
     wheels[:, A_SINCE_HD_S] = 1e9
-    return np.zeros(CTL_SIZE), wheels, hba.initial_state()
+    ctl = np.zeros(CTL_SIZE)
+    ctl[C_REF_EXCLUDED] = -1.0
+    return ctl, wheels, hba.initial_state()
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def plausible_reference(ctl, vw, braking, p, dt):
+    """Wheel-signal plausibility of the reference speed (module doc, step 1): updates ``ctl[C_REF_EXCLUDED]`` and
+    returns (max of the plausible wheels, True when the excluded wheel changed this period)."""
+    ex = int(ctl[C_REF_EXCLUDED])
+    changed = False
+    if p.esp_reference_plausibility_flag > 0.5 and not braking:
+        # judged above the ABS cut-off only (slower, the sensors' edge-timing noise is a large fraction of the speed)
+        fast = bc._candidate_ws(vw, 0.0, p.esp_reference_implausible_frac, -1) \
+            if np.median(vw) > p.esp_abs_min_speed_mps else ex
+        if fast != ex:
+            ctl[C_REF_PERSIST_S] += dt
+            if ctl[C_REF_PERSIST_S] >= p.esp_reference_implausible_time_s - 1e-9:
+                ctl[C_REF_EXCLUDED] = float(fast)
+                ctl[C_REF_PERSIST_S] = 0.0
+                ex = fast
+                changed = True
+        else:
+            ctl[C_REF_PERSIST_S] = 0.0
+    v_max = 0.0
+    for i in range(4):
+        if i != ex:
+            v_max = max(v_max, vw[i])
+    return v_max, changed
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -159,8 +196,15 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         for i in range(4):
             wheels[i, A_VW_PREV] = v_max
         hst[hba.S_P_PREV] = meas.master_pressure_pa
+    bls = meas.brake_light_switch_flag > 0.5
+    v_plaus, ref_changed = plausible_reference(ctl, vw_arr, bls, p, dt)
     decel = abs(min(meas.longitudinal_accel_mps2, 0.0)) + p.esp_reference_decel_margin_mps2
-    v_ref = max(v_max, ctl[C_V_REF] - decel * dt)
+    if ref_changed:
+        # the reference rode the implausible wheel: it restarts from the plausible ones (the accelerometer bound
+        # would otherwise hold the inflated value for seconds)
+        v_ref = v_plaus
+    else:
+        v_ref = max(v_plaus, ctl[C_V_REF] - decel * dt)
     if blown >= 0:
         v_ref = v_ref_intact  # a blown wheel turns faster (smaller radius): the reference ignores it
     ctl[C_V_REF] = v_ref
@@ -168,7 +212,6 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
 
     # pressure sensor: valid and plausible against the brake-light switch
     p_mc = meas.master_pressure_pa
-    bls = meas.brake_light_switch_flag > 0.5
     implausible = (bls and p_mc < p.esp_plausibility_pressure_pa) or (not bls and p_mc > 2.0 * p.esp_plausibility_pressure_pa)
     ctl[C_IMPLAUSIBLE_S] = ctl[C_IMPLAUSIBLE_S] + dt if implausible else 0.0
     if ctl[C_IMPLAUSIBLE_S] >= p.esp_plausibility_time_s or meas.master_pressure_ok < 0.5:

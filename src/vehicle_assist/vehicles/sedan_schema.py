@@ -125,6 +125,10 @@ class SedanEsp(Strict):
     hba_master_rebuild_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: pump re-build undecided)
     hba_rampout_pumped_only_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: ramp-out unpumped)
     reference_decel_margin_mps2: Annotated[float, Field(ge=0, le=10)]
+    # wheel-signal plausibility of the reference speed (implausibly fast wheel left out); 0 = defect (max of the four)
+    reference_plausibility_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    reference_implausible_frac: Annotated[float, Field(gt=0, lt=1)] = 0.08
+    reference_implausible_time_s: Annotated[float, Field(gt=0, le=5)] = 0.1
     plausibility_time_s: Annotated[float, Field(gt=0, le=5)]
     plausibility_pressure_bar: Annotated[float, Field(gt=0, le=50)]
 
