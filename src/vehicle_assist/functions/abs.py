@@ -2,8 +2,10 @@
 (brake_assist.md 4.3; paper 002 P7; std: Bosch Automotive Handbook, ABS control cycle).
 
 Per wheel, from the measurements only: wheel speed v_w = omega_meas*r, the ESP reference speed v_ref
-(functions/esp.py), slip lambda = (v_ref - v_w)/max(v_ref, 1 m/s) and wheel-centre deceleration
-a_w = -(v_w - v_w_prev)/dt_c:
+(functions/esp.py), slip lambda = (v_ref - v_w)/max(v_ref, 1 m/s) and wheel-centre deceleration a_w. a_w is
+filtered (``esp.abs_signal_filter_flag``, functions/esp.py ``abs_wheel_decel_mps2``): outside DUMP the least-squares
+slope of the last 3 samples, -(v_w,k - v_w,k-2)/(2*dt_c), half the noise of the one-period difference; in DUMP (the
+exit test) the one-period difference -(v_w - v_w_prev)/dt_c. Flag 0 (seeded defect): the one-period difference always.
 
     lock_threatened : lambda > L_DUMP or a_w > A_DUMP           -> DUMP
     slip_high       : lambda > L_HOLD                            -> HOLD

@@ -124,6 +124,7 @@ class SedanEsp(Strict):
     gma_hba_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: HBA pumps past the GMA)
     hba_master_rebuild_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: pump re-build undecided)
     hba_rampout_pumped_only_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: ramp-out unpumped)
+    abs_signal_filter_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (#10 F2: raw-differenced wheel decel)
     reference_decel_margin_mps2: Annotated[float, Field(ge=0, le=10)]
     # wheel-signal plausibility of the reference speed (implausibly fast wheel left out); 0 = defect (max of the four)
     reference_plausibility_flag: Annotated[int, Field(ge=0, le=1)] = 1
