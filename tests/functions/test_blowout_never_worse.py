@@ -99,8 +99,9 @@ def test_refusal_much_less_worse_than_the_defect(refusal_case):
 
 
 @pytest.mark.xfail(strict=True, reason="honest FAIL (issue #10 round 2): the yaw bound is crossed 30-40 ms after "
-                   "the detection; that short build leaves the spinning car 0.07-0.10 m of ~10-11 m farther off than "
-                   "none (the plant's stop freeze at u = 0 adds to it); see docs/functions/tire_blowout.md")
+                   "the detection; that short build leaves the spinning car 0.03-0.04 m of ~12-13 m farther off than "
+                   "none (12.92 vs 12.90, 11.75 vs 11.70 m at cd00652, plant with low-speed tyres bffdbd8); see "
+                   "docs/functions/tire_blowout.md")
 def test_refusal_point_no_worse(refusal_case):
     assert refusal_case["on"].metrics[METRIC] <= refusal_case["off"].metrics[METRIC]
 
@@ -167,3 +168,29 @@ def test_front_low_friction_point_no_worse(front_case):
 def test_front_low_friction_point_fails_with_the_defect(front_case):
     """Negative control: planned from mu 0.8 alone (tire_capacity_flag = 0) the point is a counterexample again."""
     assert front_case["defect"] > front_case["off"]
+
+
+# Rear spin points (session 2026-11-23 d, D2): the car spins with and without compensation (run max 17-22 m). Traced
+# at cd00652: the compensation holds the yaw rate below none's (0.23 vs 0.31 rad/s at 2.0 s), is refused when r crosses
+# 0.85*mu*g/u (1.97-1.99 s), its added pressure is gone 40-70 ms later, and the car is no farther off than none up to
+# ~4.1-4.3 s (t_b + 3 s: 10.91 vs 10.95 m, 12.30 vs 12.58 m); it spins later, keeps more speed (16.7 vs 14.1 m/s at
+# 4 s) and at the end of the 5 s run, with both cars 17-22 m off the road, is 0.7-1.0 m farther. Neither a later nor
+# an earlier stand-down fixes it: no refusal 18.86 / 22.00 m; the full-strength build without the rear limits and the
+# refusal (the code before round 2) 16.38 / 20.15 m, but that is the defect of the rear spin points of round 1.
+# Spec 9.5's own measure (deviation at t_b + 3 s) is smaller with compensation at both points (10.90 vs 10.95 m,
+# 12.29 vs 12.57 m); no seeded defect makes it larger (a refusal at detection equals none), so it is not a test here.
+# (name, speed, mu scale, delay, wheel, driver, radius): the review's seed-42 point and F3 (random 7 #7, rounded).
+SPIN_CASES = [
+    ("review_seed42_101kph_rl", 101.9, 0.4685, 0.432, 2, "fixed", 650),  # 18.84 vs 18.17 m
+    ("f3_random7_110kph_rl", 110.7, 0.546, 0.293, 2, "fixed", 650),  # 21.73 vs 20.72 m
+]
+
+
+@pytest.mark.parametrize("c", SPIN_CASES, ids=[c[0] for c in SPIN_CASES])
+@pytest.mark.xfail(strict=True, reason="honest FAIL: the car spins either way; the compensated car is no farther off "
+                   "up to ~t_b + 3.1 s, spins later and keeps more speed, and at the end of the run (17-22 m off) is "
+                   "0.7-1.0 m farther than none (docs/functions/tire_blowout.md, spin points)")
+def test_rear_spin_point_no_worse(c):
+    sets = _sets(*c[1:])
+    assert _dev(BASE_ON, sets) <= _dev(BASE_OFF, sets)
+
