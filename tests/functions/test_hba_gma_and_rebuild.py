@@ -89,13 +89,22 @@ def test_driver_just_above_the_lock_pressure_hba_not_longer(defect):
 
 
 def _easing_split(hba: int, defect: bool):
-    """CMA-ES seed 2026 counterexample with the easing driver: 94.8 km/h, split-mu, mu scale 0.771, 1804 kg, panic
-    123 N in 8 ms, eased to 35 N from 0.45 s over 0.3 s, held (HBA exits on the pressure drop)."""
-    sets = ["driver.brake_pedal={time_s=[0.1,0.107795,0.451686,0.751686],frac=[0,0.12273823316465388,"
-            "0.12273823316465388,0.03498157809031587]}", "run.initial_speed_kph=94.82607623381199",
-            "road.friction_mu=0.7714592165256153", 'vehicle.surface.left="dry"', 'vehicle.surface.right="snow"',
-            "run.duration_s=38.752", "vehicle.body.mass_kg=1804.0013527317465",
-            f"vehicle.brake_assist.enabled_flag={hba}"]
+    """Easing driver on split-mu: 73.1 km/h, mu scale 0.837, 1685 kg, panic 115 N in 4 ms, eased to 53 N from 0.48 s
+    after the peak over 0.3 s, held (HBA exits on the pressure drop).
+
+    History: CMA-ES seed 2026 found the defect at 94.8 km/h, mu scale 0.771, 1804 kg, 123 N eased to 35 N (HBA 0.047 m
+    longer than none with the flag at 0, 447e251); with the 3-sample ABS wheel deceleration (2493eb2) that point gives
+    only +0.0014 m, so the seeded defect no longer showed there. This point is from a random search of the
+    brake_assist envelope ranges (split surface, driver 'ease', panic rates 5-30 /s; 64 points, 2 with the defect
+    worse than no HBA, none with the shipped flag) at 7f24564: with these rounded coordinates 83.45 m with the flag
+    at 0 vs 83.06 m without HBA (+0.389 m), shipped flag 83.06 m (equal). Of 24 neighbours within +-3 % of every
+    coordinate 16 have the defect longer by 0.35-1.01 m, 1 equal, 7 shorter (the defect changes the ABS phase on
+    the snow side, so its sign is not smooth); the shipped flag is equal to no HBA at all 24."""
+    level, t_peak = 0.11488, 0.1 + 0.11488 / 27.52915
+    sets = [f"driver.brake_pedal={{time_s=[0.1,{t_peak},{t_peak + 0.47784},{t_peak + 0.77784}],"
+            f"frac=[0,{level},{level},{level * 0.45721}]}}", "run.initial_speed_kph=73.07556",
+            "road.friction_mu=0.83734", 'vehicle.surface.left="dry"', 'vehicle.surface.right="snow"',
+            "run.duration_s=40", "vehicle.body.mass_kg=1685.2823", f"vehicle.brake_assist.enabled_flag={hba}"]
     if defect:
         sets.append("vehicle.esp.hba_rampout_pumped_only_flag=0")
     return va.load_scenario("hba_paper_110kph_dry", sets=sets)
@@ -103,8 +112,8 @@ def _easing_split(hba: int, defect: bool):
 
 @pytest.mark.parametrize("defect", [False, True])
 def test_easing_driver_on_split_mu_hba_not_longer(defect):
-    """The pump never lifted a wheel here: the ramp-out must not act on pressure the driver left by easing off."""
-    _assert_hba_not_longer(_easing_split, defect, 0.02)  # seeded defect: 0.047 m
+    """The ramp-out must not act on pressure the driver left by easing off (a circuit the pump never served)."""
+    _assert_hba_not_longer(_easing_split, defect, 0.02)  # seeded defect: +0.389 m (0.047 m at the 447e251 point)
 
 
 def _release_split(hba: int, defect: bool):
