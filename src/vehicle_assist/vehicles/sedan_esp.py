@@ -358,20 +358,33 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
                 # no drive torque on these wheels: an over-speeding wheel rolls with the ground (it cannot roll backward)
                 omega[i] = max(vl, 0.0) / rw[i]
             sl = braking_slip(vl, omega[i], rw[i]) if not held else 0.0
-            slip[i] = sl
             c1 = BURCKHARDT_SETS[side_set[i], 0]
             c2 = BURCKHARDT_SETS[side_set[i], 1]
             c3 = BURCKHARDT_SETS[side_set[i], 2]
+            kx = cx_true
+            ky = c_y[i]
+            if i == blown and phi > 0.0:
+                kx *= bo.stiffness_factor(phi, p.blowout_longitudinal_stiffness_frac)
+                ky *= bo.stiffness_factor(phi, p.blowout_cornering_stiffness_frac)
+            backward = not held and vl < 0.0
+            if backward:
+                # rolling backward (a spun car; the wheel's backward rotation is not a state, omega >= 0): the brake
+                # acts quasi-statically - the slip at which the tire force balances the brake torque capacity, or the
+                # locked wheel (s = 1) when the tire cannot carry it; the force then points forward, against the
+                # motion (braking_slip alone gave s = 0 for v_long < 0: a braked car rolling backward had no brake)
+                sl = _backward_slip(tire_model, gain[i] * max(pw[i], 0.0) / rw[i], tan_a, fz[i], mu_scale,
+                                    c1, c2, c3, kx, ky, p.blowout_friction_reduction_coeff, -vl)
+            slip[i] = sl
             if held:
                 fx[i] = 0.0
                 fy[i] = 0.0
                 damp[i] = 0.0
+            elif backward:
+                fxm, fy[i] = _tire(tire_model, sl, tan_a, fz[i], mu_scale, c1, c2, c3, kx, ky,
+                                   p.blowout_friction_reduction_coeff, -vl)
+                fx[i] = -fxm  # mirrored: the retarding force of a wheel moving backward points forward
+                damp[i] = 0.0
             else:
-                kx = cx_true
-                ky = c_y[i]
-                if i == blown and phi > 0.0:
-                    kx *= bo.stiffness_factor(phi, p.blowout_longitudinal_stiffness_frac)
-                    ky *= bo.stiffness_factor(phi, p.blowout_cornering_stiffness_frac)
                 fx[i], fy[i] = _tire(tire_model, sl, tan_a, fz[i], mu_scale, c1, c2, c3, kx, ky,
                                      p.blowout_friction_reduction_coeff, vl)
                 f2, _ = _tire(tire_model, min(sl + 1e-4, 1.0), tan_a, fz[i], mu_scale, c1, c2, c3, kx, ky,
@@ -382,7 +395,7 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
             fxb = fx[i]
             if i == blown and phi > 0.0 and not held:
                 f_bd = bo.blown_drag_n(phi, p.blowout_drag_coeff, fz[i], mu_scale * peak_mu(c1, c2, c3))
-                fxb -= f_bd if vl > 0.0 else 0.0
+                fxb -= f_bd if vl > 0.0 else (-f_bd if vl < 0.0 else 0.0)  # the flat tire's drag opposes the motion
             xb[i], yb[i] = body_forces(fxb, fy[i], d_i)
             sum_x += xb[i]
             sum_y += yb[i]
@@ -533,6 +546,33 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
                 omega[i] = 0.0
             n_events = log_event(events, n_events, t + dt, M_VEHICLE, 0, 1, 0)
     return n_rec, n_events
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def _backward_slip(model, f_brake_n, tan_a, fz, scale, c1, c2, c3, cx, cy, eps_r, speed_mps):
+    """Slip of a braked wheel rolling backward, quasi-static (its rotation is not integrated backward): the smallest
+    s whose retarding tire force equals the brake force f_brake_n = T_b/R (the stable, rising branch), 1 (locked)
+    when no slip carries it, 0 when unbraked."""
+    if f_brake_n <= 0.0:
+        return 0.0
+    n = 32
+    lo = 0.0
+    hi = -1.0
+    for k in range(1, n + 1):
+        s_k = k / n
+        if -_tire(model, s_k, tan_a, fz, scale, c1, c2, c3, cx, cy, eps_r, speed_mps)[0] >= f_brake_n:
+            hi = s_k
+            break
+        lo = s_k
+    if hi < 0.0:
+        return 1.0
+    for _ in range(30):
+        mid = 0.5 * (lo + hi)
+        if -_tire(model, mid, tan_a, fz, scale, c1, c2, c3, cx, cy, eps_r, speed_mps)[0] >= f_brake_n:
+            hi = mid
+        else:
+            lo = mid
+    return hi
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
