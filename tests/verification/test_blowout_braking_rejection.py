@@ -1,0 +1,63 @@
+"""The yaw-implausibility rejection with a driver braking through a blowout (issue #10 independent review d, falsifier
+random search budget 32 --keep-going, seeds 23 and 3, envelope data/envelopes/tire_blowout.toml).
+
+With the pedal applied around t_b the detection comes from the TPMS path (a braked blown wheel shows no over-speed),
+i.e. from one source, and the function releases the blown wheel from the driver's pressure (paper 004 P7: the blown
+wheel is not braked). That release is itself a yaw moment away from the blown side, on top of the counter-brake. The
+car then yaws away from the blown side and the single-source rule (BUILD/HOLD/LIMITED -> REJECTED, yaw_implausible)
+takes the real blowout for a false alarm. Two points of the envelope pull in opposite directions:
+
+* RL at 119 km/h (seed 23 #4): the rejection at t_b + 1.05 s re-brakes the blown wheel with the driver's pressure and the
+  car ends 1.39 m off vs 1.19 m without compensation; without the rejection (abort_yaw_rate 8 deg/s) 0.64 m. Honest
+  FAIL (strict xfail).
+* FL at 120 km/h (seed 3 #12, reached when the TPMS-path detection was promoted to two sources once the released
+  wheel showed its over-speed - the fix tried in the review and withdrawn): the rejection at t_b + 0.54 s is what
+  keeps the car near the lane (0.87 m vs 1.26 m without compensation); holding the compensation, the car keeps yaw
+  ~0 in a 1000 m left curve with the steering held and ends 3.72 m off. Guard: a fix of the first point must not
+  lose this one.
+
+Reference: the same blowout without compensation (paper 004 Fig. 4 curve 2; conventions.md 'Evidence'), largest
+lateral deviation from t_b to the end of the run, as the requirement tire_blowout.no_worse_than_no_compensation.
+The proper fix plans the moment of the blown wheel's released driver pressure (b * K_b * p_driver / R) into the
+counter-moment and judges the yaw test net of it (see the review report)."""
+from __future__ import annotations
+
+import pytest
+
+import vehicle_assist as va
+from vehicle_assist.verification.envelope import load_envelope
+
+METRIC = "blowout_lateral_deviation_run_max_m"
+RL_SEED23 = {"speed": 119.39563563443807, "mu": 0.4186664885826914, "delay": 0.39560516807119134,
+             "wheel_speed_noise": 0.049908390411532756, "noise_seed": 5936, "brake_gain": 0.8733545627851009,
+             "brake.start_s": 0.9847597428997881, "brake.level_frac": 0.21453458675326495,
+             "brake.rate_per_s": 28.031617768272152, "braking": "brakes", "wheel": "rl", "driver": "follow",
+             "curve": "r1000"}
+FL_SEED3 = {"speed": 119.98424226281585, "mu": 0.3551565873975112, "delay": 0.2779029077251118,
+            "wheel_speed_noise": 0.26436015861764756, "noise_seed": 530, "brake_gain": 0.994146577927896,
+            "brake.start_s": 0.8478226987765873, "brake.level_frac": 0.3908802232177515,
+            "brake.rate_per_s": 28.13061500386974, "braking": "brakes", "wheel": "fl", "driver": "fixed",
+            "curve": "r1000"}
+
+
+@pytest.fixture(scope="module")
+def env():
+    return load_envelope("tire_blowout")
+
+
+def _dev(env, point, baseline=False):
+    return va.simulate(env.scenario(point, baseline=baseline), requirements=False).metrics[METRIC]
+
+
+@pytest.mark.xfail(strict=True, reason="honest FAIL: a real RL blowout with the driver braking from t_b - 15 ms is "
+                   "rejected as yaw-implausible at t_b + 1.05 s (the released blown wheel's lost driver brake force "
+                   "yaws the car away from it), the blown wheel is re-braked: 1.39 m vs 1.19 m without compensation "
+                   "(0.64 m without the rejection)")
+def test_rl_blowout_braking_not_rejected_into_worse(env):
+    assert _dev(env, RL_SEED23) < _dev(env, RL_SEED23, baseline=True)
+
+
+def test_fl_blowout_braking_rejection_still_guards(env):
+    """The rejection keeps this braking FL point no worse than none (0.87 vs 1.26 m); holding the compensation
+    through it gave 3.72 m."""
+    assert _dev(env, FL_SEED3) < _dev(env, FL_SEED3, baseline=True)
