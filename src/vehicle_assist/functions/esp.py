@@ -19,6 +19,10 @@ Per period:
    ``gma_duration_s``, so the yaw moment of the brake-force difference grows slowly enough for the driver;
    for the rest of the stop the yaw rate limits it (yaw toward the high-mu side above ``yaw_hold_rate``:
    hold that wheel, above ``yaw_dump_rate``: dump it), as ESP units do on split-mu (Bosch Handbook, std).
+   The GMA limits the high-mu wheel's pressure relative to the low-mu wheel's: during an assist whose pump lifted the
+   other front above the driver's pressure, the GMA's wheel follows it up to (not past) that pressure
+   (``gma_follow_flag``; a noise-split HBA-onset dump arms the GMA on a dry road, and the driver's-pressure cap of
+   ``gma_hba_flag`` then held one front at 27-60 bar against 83 bar on the other for the whole stop).
 4. HBA (functions/brake_assist.py), if enabled, available only while ABS and the pump are healthy.
 5. Arbitration: wheel valve mode = ``ARBITRATION[hba mode][wheel request]`` (data below).
 6. The ECU's wheel-pressure estimate (its model of the unit, nominal data) tells TERMINATING when the
@@ -405,7 +409,25 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # circuit's front wheel (pumping it while the front still rebuilt below the driver put the rear into ABS
             # cycling the car without HBA does not have)
             row = A_DRIVER
-        wm = ARBITRATION[row, int(wheels[i, A_REQUEST])] if abs_ok else W_N
+        req = int(wheels[i, A_REQUEST])
+        if (row == A_DRIVER and i == gma_wheel and blown < 0 and p.esp_gma_follow_flag > 0.5
+                and ctl[C_SOURCE_C1 + CIRCUIT[i]] != SRC_DRIVER and ctl[C_SOURCE_C1 + CIRCUIT[1 - i]] == SRC_PUMP
+                and max(wheels[1 - i, A_P_EST], wheels[i, A_P_EST]) > p_mc + RAMP_SETTLED_PA):
+            # GMA follow: the pump lifted the other (presumed low-mu) front above the driver's pressure; the driver's
+            # pressure cap would hold the GMA's wheel below the other side for the whole stop. The GMA limits the
+            # high-mu wheel's pressure relative to the low-mu wheel's: it is pumped up to the other front's pressure
+            # (not past it) and held there; the yaw limitation (hold/dump) and its own ABS still govern it.
+            # Only once the pump served the other circuit (SRC_PUMP): an easing driver leaves the other front above
+            # p_mc too (following it there made HBA 1.20 m longer than none, test_hba_gma_and_rebuild easing point).
+            # Paper stop, 0.1 rad/s wheel-speed noise, seeds 1-10: 7 did not stop in 12 s (38-54 deg) -> 49.1-55.1 m.
+            row = hba.ACTIVE
+            toward = meas.yaw_rate_radps * (1.0 if i == 0 else -1.0)
+            if wheels[i, A_P_EST] < wheels[1 - i, A_P_EST] - RAMP_SETTLED_PA:
+                if (req == R_GMA_PULSE or req == R_GMA_HOLD) and toward <= p.esp_yaw_hold_rate_radps:
+                    req = R_OFF  # (ACTIVE row: pump build)
+            elif req == R_OFF or req == R_BUILD or req == R_GMA_PULSE:
+                req = R_GMA_HOLD  # at the other front's pressure: hold, circuit isolated
+        wm = ARBITRATION[row, req] if abs_ok else W_N
         if (wm == W_BP and row == hba.ACTIVE and i < 2 and ctl[C_SOURCE_C1 + CIRCUIT[i]] == SRC_UNDECIDED
                 and p_mc - wheels[i, A_P_EST] > RAMP_SETTLED_PA and hst[hba.S_RATE] >= 0.0 and blown < 0
                 and p.esp_hba_master_rebuild_flag > 0.5):
