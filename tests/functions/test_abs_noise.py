@@ -5,7 +5,8 @@ SUV's ABS stop on mu scale 0.684 from 6.88 to 2.51 m/s^2 - ABS dumped on noise).
 Reference (independent of the code under test): the adhesion utilisation an ABS must reach, epsilon = z_AL/k >= 0.75
 (UN R13 Annex 13 para 5.2 / R13-H Annex 6, as recalled [recollection]; the clause text was not retrieved), with k the
 road's peak adhesion coefficient and z_AL the braking rate with ABS, here read as the regulation reads k: from the time
-t the speed takes from 40 to 20 km/h (z = 0.566/t in g; EU 2015/68 Annex XI Appendix 2 para 1.1.3). k is the surface's
+t the speed takes from 40 to 20 km/h (z = 0.566/t in g: the determination of k in UN R13-H Annex 6 Appendix 2, as recalled, not retrieved; the
+agricultural-vehicle regulation EU 2015/68 cited here before repeats the formula but is not the passenger-car clause). k is the surface's
 published peak: dry-asphalt Burckhardt peak 1.17 (brake_assist.md 4.4) times the road scale (the SUV's Dugoff mu is that
 peak, suv_bj2500.toml tires.source). Surfaces: scale 0.684 (k = 0.80) and 0.2564 (k = 0.30, the low-adhesion surface
 of the ABS tests: 71/320/EEC Annex X 5.1.1.2, "0.3 or less"). Pedal 250 N (146 bar master, more than twice the

@@ -3,7 +3,8 @@
 
 Reference (independent of the code under test), the method of tests/functions/test_abs_noise.py: epsilon = z/k >= 0.75
 (UN R13 Annex 13 para 5.2 / R13-H Annex 6, as recalled [recollection]; clause text not retrieved), z from the time the
-speed takes from 40 to 20 km/h (EU 2015/68 Annex XI Appendix 2 para 1.1.3 reading of a braking rate), k = the peak of
+speed takes from 40 to 20 km/h (z = 0.566/t: UN R13-H Annex 6 Appendix 2's determination of k, as recalled,
+not retrieved; not EU 2015/68, the agricultural-vehicle regulation, cited here before), k = the peak of
 the sedan's dry Burckhardt curve (brake_assist.md 4.4, c1 1.2801, c2 23.99, c3 0.52: peak 1.17 at 17 % slip). Caveat as
 in that file: R13 measures z with one axle braked at a time; here all four wheels brake with HBA, which is at least
 as demanding on the ABS. The pedal is held to standstill (15 s) so the 40 -> 20 km/h window is always reached when the
