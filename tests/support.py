@@ -85,3 +85,16 @@ source = "issue #7 item 1"
 gravel = { "road.friction_mu" = 0.6 }
 wet = { "road.friction_mu" = 0.5 }
 """
+
+
+def ecu_pressure_estimates(params, modes, p0: float = 0.0, dt: float = 0.005) -> list[float]:
+    """The ESP's wheel-pressure estimate (functions/esp.py ``_estimate``) after each ESP period for a sequence of wheel
+    modes, carrying the inlet-open timer as ``esp_step`` does (used by the pressure-estimate tests)."""
+    from vehicle_assist.functions import esp
+
+    p, open_s, out = p0, 0.0, []
+    for wm in modes:
+        p = esp._estimate(wm, p, 0.0, dt, params, open_s)
+        open_s = open_s + dt if wm in (esp.W_B, esp.W_BP) else 0.0
+        out.append(p)
+    return out

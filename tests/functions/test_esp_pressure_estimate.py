@@ -18,6 +18,7 @@ import pytest
 
 import vehicle_assist as va
 from vehicle_assist.functions import esp
+from tests.support import ecu_pressure_estimates
 
 P_ACC, TAU, T0, DT, DUTY = 120e5, 0.078, 0.015, 0.005, 0.3  # suv_bj2500.toml [esp_unit], [esp] period_s
 
@@ -31,12 +32,7 @@ def params():
 
 def _run(params, modes, p0=0.0):
     """ECU estimate after each period for a sequence of wheel modes, as esp_step carries the inlet timer."""
-    p, open_s, out = p0, 0.0, []
-    for wm in modes:
-        p = esp._estimate(wm, p, 0.0, DT, params, open_s)
-        open_s = open_s + DT if wm in (esp.W_B, esp.W_BP) else 0.0
-        out.append(p)
-    return out
+    return ecu_pressure_estimates(params, modes, p0, DT)
 
 
 def test_accumulator_build_follows_the_dead_time_and_exponential_fill(params) -> None:

@@ -20,6 +20,7 @@ import pytest
 import vehicle_assist as va
 from vehicle_assist.functions import esp
 from vehicle_assist.plant.brakes import esp_unit as unit
+from tests.support import ecu_pressure_estimates
 
 DT_ECU, DT_PLANT = 0.005, 0.0005  # suv_bj2500 [esp] period_s; blowout_lf_60kph_paper run.plant_step_s
 BAR = 1e5
@@ -53,12 +54,7 @@ def _plant(params, modes, p0):
 
 
 def _ecu(params, modes, p0):
-    p, open_s, out = p0, 0.0, []
-    for wm in modes:
-        p = esp._estimate(wm, p, 0.0, DT_ECU, params, open_s)
-        open_s = open_s + DT_ECU if wm in (esp.W_B, esp.W_BP) else 0.0
-        out.append(p)
-    return out
+    return ecu_pressure_estimates(params, modes, p0, DT_ECU)
 
 
 SEQUENCES = {
