@@ -77,6 +77,32 @@ def test_panic_stop_after_blowout_without_compensation_brakes(env, name, flag):
         assert a < bound, (a, bound)  # negative control: the defect fails the bound
 
 
+# F4b (analyst I): a pedal within ~0.1 s of the blowout comes before the unbraked 0.1 s decision; frozen while braking,
+# the blown wheel (~1.5x) stayed in the reference and ABS held all four wheels at ~1 bar (1.23 m/s^2).
+# RR at 100 km/h, mu scale 0.4, follower, 650 m curve, no noise, 300 N pedal 0.05 s after the blowout (t_b = 1.0 s).
+F4B = dict(F4, speed=100.0, mu=0.4, delay=0.1, wheel_speed_noise=0.0, noise_seed=0, brake_gain=1.0,
+           **{"brake.start_s": 1.05, "brake.level_frac": 0.3, "brake.rate_per_s": 30.0})
+BRAKING_DEFECT = "vehicle.esp.reference_braking_plausibility_flag=0"  # seeded defect: decision frozen while braking
+
+
+@pytest.mark.parametrize("flag", [1, 0])
+def test_pedal_right_after_blowout_without_compensation_brakes(env, flag):
+    """F4b: blowout function off, 300 N pedal 0.05 s after the blowout (before the unbraked plausibility test can
+    decide): mean deceleration from 0.3 s to 1.3 s after the pedal is at least R13-H's adhesion utilisation 0.75 of the
+    friction left for braking (0.75*4.43 = 3.32 m/s^2 on mu 0.468 in the 650 m curve at 100 km/h). While braking the
+    car cannot speed up, so a wheel well above the rate-bounded reference is implausible. With the seeded defect
+    (decision frozen while braking) the blown wheel stays in the reference and ABS dumps every intact wheel."""
+    sc = env.scenario(F4B, baseline=True)
+    run = va.simulate(sc if flag else sc.with_sets(BRAKING_DEFECT), requirements=False)
+    t0 = F4B["brake.start_s"] + 0.3
+    a = _decel(run, t0, t0 + 1.0)
+    bound = _bound(F4B)
+    if flag:
+        assert a >= bound, (a, bound)
+    else:
+        assert a < bound, (a, bound)  # negative control: the defect fails the bound
+
+
 @pytest.mark.parametrize("scenario", ["hba_split_mu_80kph", "hba_snow_60kph"])
 def test_abs_stop_on_split_mu_and_snow_unchanged(scenario):
     """Split-mu and snow ABS stops: no wheel lock (brake_assist.md 8 criterion 5), and the reference speed is the

@@ -9,7 +9,11 @@ Per period:
    smaller rolling radius: blown or deflated tire, compact spare) is left out of the max until, again unbraked, it
    is within that band for the same time; while braking the decision is frozen, so an ABS-recovering wheel (briefly
    much faster than its slipping neighbours) is never taken for one. The test is the blowout compensation's
-   wheel-speed signature (``blowout_compensation._candidate_ws``, base = the median of the others).
+   wheel-speed signature (``blowout_compensation._candidate_ws``, base = the median of the others). While braking
+   (``reference_braking_plausibility_flag``) the reference rises at most at max(a_x, 0) + RISE_MARGIN (a braked car
+   cannot speed up) and a wheel above that bound by the same band for the same time, with no ABS activity for
+   ``reference_braking_abs_quiet_time_s``, is left out (an ABS-recovering wheel returns to the vehicle speed from
+   below): a pedal within ~0.1 s of a blowout comes before the unbraked decision (finding F4b).
 2. Pressure-sensor health: valid flag from the sensor, plus plausibility against the brake-light switch
    (switch on with p_mc below ``plausibility_pressure`` for ``plausibility_time``, or off with p_mc above it,
    latches a fault).
@@ -105,26 +109,54 @@ CTL_SIZE = 17
 # while braking latched the GMA on the healthy wheel it had released, 3-10 bar for ~1 s, 1.12 m off the lane)
 # per-wheel state (rows fl, fr, rl, rr)
 A_MODE, A_BUILD_S, A_VW_PREV, A_SINCE_HD_S, A_LOGGED, A_SLIP, A_DECEL, A_REQUEST, A_WHEEL_MODE, A_P_EST, \
-    A_INLET_OPEN_S = range(11)
-WHEEL_STATE_SIZE = 11
+    A_INLET_OPEN_S, A_ABS_QUIET_S = range(12)
+WHEEL_STATE_SIZE = 12
+# A_ABS_QUIET_S: time since the wheel's ABS mode was last other than OFF (hold, dump or build)
 
 
 def initial_state() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(controller vector, per-wheel array, HBA vector)."""
     wheels = np.zeros((4, WHEEL_STATE_SIZE))
     wheels[:, A_SINCE_HD_S] = 1e9
+    wheels[:, A_ABS_QUIET_S] = 1e9
     ctl = np.zeros(CTL_SIZE)
     ctl[C_REF_EXCLUDED] = -1.0
     return ctl, wheels, hba.initial_state()
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def plausible_reference(ctl, vw, braking, p, dt):
+def plausible_reference(ctl, vw, braking, p, dt, a_x=0.0, abs_quiet_s=None):
     """Wheel-signal plausibility of the reference speed (module doc, step 1): updates ``ctl[C_REF_EXCLUDED]`` and
-    returns (max of the plausible wheels, True when the excluded wheel changed this period)."""
+    returns (max of the plausible wheels, True when the excluded wheel changed this period). ``a_x``: measured
+    longitudinal acceleration; ``abs_quiet_s``: per wheel, time since its ABS mode was last other than OFF (None: all
+    quiet) - both used only by the braking test (``reference_braking_plausibility_flag``)."""
     ex = int(ctl[C_REF_EXCLUDED])
     changed = False
-    if p.esp_reference_plausibility_flag > 0.5 and not braking:
+    if p.esp_reference_braking_plausibility_flag > 0.5 and braking and ctl[C_STARTED] > 0.5:
+        # while braking the car cannot speed up: the reference may rise at most at max(a_x, 0) + RISE_MARGIN (as
+        # blowout_compensation.reference_step), and an ABS-recovering wheel comes back up to the vehicle speed from
+        # below, never above it - a wheel faster than that bound by the band for the same time is implausible. Only
+        # a wheel without ABS activity for reference_braking_abs_quiet_time_s is left out (a reference drifting low
+        # in a long all-wheel slip must not make a recovering wheel look fast), and only above the ABS cut-off.
+        hi = ctl[C_V_REF] + (max(a_x, 0.0) + bc.RISE_MARGIN_MPS2) * dt
+        fast = -1
+        best = 0.0
+        if np.median(vw) > p.esp_abs_min_speed_mps:
+            for i in range(4):
+                quiet = abs_quiet_s is None or abs_quiet_s[i] >= p.esp_reference_braking_abs_quiet_time_s - 1e-9
+                if i != ex and quiet and vw[i] > hi * (1.0 + p.esp_reference_implausible_frac) and vw[i] / hi > best:
+                    best = vw[i] / hi
+                    fast = i
+        if fast >= 0:
+            ctl[C_REF_PERSIST_S] += dt
+            if ctl[C_REF_PERSIST_S] >= p.esp_reference_implausible_time_s - 1e-9:
+                ctl[C_REF_EXCLUDED] = float(fast)
+                ctl[C_REF_PERSIST_S] = 0.0
+                ex = fast
+                changed = True
+        else:
+            ctl[C_REF_PERSIST_S] = 0.0
+    elif p.esp_reference_plausibility_flag > 0.5 and not braking:
         # judged above the ABS cut-off only (slower, the sensors' edge-timing noise is a large fraction of the speed)
         fast = bc._candidate_ws(vw, 0.0, p.esp_reference_implausible_frac, -1) \
             if np.median(vw) > p.esp_abs_min_speed_mps else ex
@@ -228,7 +260,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             wheels[i, A_VW_PREV] = v_max
         hst[hba.S_P_PREV] = meas.master_pressure_pa
     bls = meas.brake_light_switch_flag > 0.5
-    v_plaus, ref_changed = plausible_reference(ctl, vw_arr, bls, p, dt)
+    v_plaus, ref_changed = plausible_reference(ctl, vw_arr, bls, p, dt, meas.longitudinal_accel_mps2,
+                                               wheels[:, A_ABS_QUIET_S])
     decel = abs(min(meas.longitudinal_accel_mps2, 0.0)) + p.esp_reference_decel_margin_mps2
     if ref_changed:
         # the reference rode the implausible wheel: it restarts from the plausible ones (the accelerometer bound
@@ -236,6 +269,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         v_ref = v_plaus
     else:
         v_ref = max(v_plaus, ctl[C_V_REF] - decel * dt)
+        if p.esp_reference_braking_plausibility_flag > 0.5 and bls:
+            # braking: the car cannot speed up faster than the accelerometer says (+ margin, as the blowout
+            # compensation's reference); 0 = seeded defect (F4b: the reference rides a wheel blown just before the pedal)
+            v_ref = min(v_ref, ctl[C_V_REF] + (max(meas.longitudinal_accel_mps2, 0.0) + bc.RISE_MARGIN_MPS2) * dt)
     if blown >= 0:
         v_ref = v_ref_intact  # a blown wheel turns faster (smaller radius): the reference ignores it
     ctl[C_V_REF] = v_ref
@@ -294,6 +331,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             wheels[i, A_SINCE_HD_S] = 0.0
         else:
             wheels[i, A_SINCE_HD_S] += dt
+        wheels[i, A_ABS_QUIET_S] = wheels[i, A_ABS_QUIET_S] + dt if new == abs_fn.OFF else 0.0
         wheels[i, A_REQUEST] = new  # ABS modes are requests 0..3
 
     # select-low on the rear axle: both rear wheels follow the more critical request

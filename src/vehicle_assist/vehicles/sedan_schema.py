@@ -131,6 +131,9 @@ class SedanEsp(Strict):
     reference_plausibility_flag: Annotated[int, Field(ge=0, le=1)] = 1
     reference_implausible_frac: Annotated[float, Field(gt=0, lt=1)] = 0.08
     reference_implausible_time_s: Annotated[float, Field(gt=0, le=5)] = 0.1
+    # while braking: rise-bounded reference, a fast wheel without ABS activity left out; 0 = defect (F4b, frozen)
+    reference_braking_plausibility_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    reference_braking_abs_quiet_time_s: Annotated[float, Field(gt=0, le=5)] = 0.3
     plausibility_time_s: Annotated[float, Field(gt=0, le=5)]
     plausibility_pressure_bar: Annotated[float, Field(gt=0, le=50)]
 
