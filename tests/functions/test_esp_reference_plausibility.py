@@ -148,3 +148,26 @@ def test_fast_free_rolling_wheel_left_out_then_taken_back(params):
     assert out[-1] == 20.0
     ctl, out = _steps(params, (20.5, 20.0, 20.0, 20.0), False, 20, ctl)
     assert out[-1] == 20.5 and ctl[esp.C_REF_EXCLUDED] == -1.0
+
+
+def _braking_steps(params, vw, quiet_s, n, v_ref):
+    ctl = esp.initial_state()[0]
+    ctl[esp.C_STARTED] = 1.0
+    ctl[esp.C_V_REF] = v_ref
+    out = []
+    for _ in range(n):
+        out.append(esp.plausible_reference(ctl, np.asarray(vw, dtype=float), True, params, 0.005, 0.0,
+                                           np.asarray(quiet_s, dtype=float))[0])
+    return ctl, out
+
+
+def test_braking_fast_wheel_left_out_only_without_abs_activity(params):
+    """Braking, previous reference 20 m/s, a wheel at 23 m/s (15 % above; the reference may rise only 2 m/s^2 *
+    5 ms): left out after 0.1 s (20 periods) when ABS left it alone for 0.3 s (a blown wheel: negative slip, ABS off),
+    never when ABS worked it in the last 0.3 s (a wheel recovering from a dump, the reference possibly drifted low)."""
+    ctl, out = _braking_steps(params, (23.0, 19.5, 19.5, 19.5), (1.0, 1.0, 1.0, 1.0), 19, 20.0)
+    assert ctl[esp.C_REF_EXCLUDED] == -1.0 and out[-1] == 23.0
+    ctl, out = _braking_steps(params, (23.0, 19.5, 19.5, 19.5), (1.0, 1.0, 1.0, 1.0), 20, 20.0)
+    assert ctl[esp.C_REF_EXCLUDED] == 0.0 and out[-1] == 19.5
+    ctl, out = _braking_steps(params, (23.0, 19.5, 19.5, 19.5), (0.2, 1.0, 1.0, 1.0), 200, 20.0)
+    assert ctl[esp.C_REF_EXCLUDED] == -1.0 and out[-1] == 23.0
