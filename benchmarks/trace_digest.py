@@ -6,11 +6,11 @@ identical: generate the digests from the code before the change, then compare af
     python benchmarks/trace_digest.py --write benchmarks/results/digests_before.json   # before
     python benchmarks/trace_digest.py --compare benchmarks/results/digests_before.json # after
 
-``--layouts truck_amt,ev_ehb`` restricts the scenarios. ``benchmarks/digests/main_f44e3f2.json`` holds the digests
-of all 76 shipped scenarios at commit f44e3f2 (before issue 13's engine changes). Other work changes traces on
-purpose (a model fix), so compare against code that differs only by the engine change: for issue 13 the truck
-and EV scenarios against f44e3f2 (32 identical), the sedan and AMT-car scenarios with and without the
-vehicles/common.py change on the same tree (49 identical).
+``--layouts truck_amt,ev_ehb`` restricts the scenarios. ``benchmarks/digests/main_<commit>.json`` holds the digests
+of all shipped scenarios at that commit (now f8ce770, 82 scenarios; the former f44e3f2 snapshot, taken before issue
+13's engine changes, no longer matched 44 of them after intended model changes and was replaced). Work that changes
+traces on purpose (a model fix) should compare against the commit just before it, and whoever lands such a change
+refreshes this file in the same landing (one snapshot of one commit, never a mix of entries from several).
 """
 from __future__ import annotations
 
