@@ -469,3 +469,14 @@ def test_another_toml_as_the_scenario_does_not_list_its_keys(tmp_path):
     message = load_error(other)
     assert_names(message, "not a scenario file")
     assert "secret_token_name" not in message and "database" not in message
+
+
+@pytest.mark.parametrize("sets", [["road.slope_deg=8"], ["road.slope_deg=-3"]])
+def test_a_road_grade_on_the_flat_two_track_plant_is_refused(sets) -> None:
+    """The sedan/SUV two-track plant (vehicles/sedan_esp.py) has no grade force: a slope used to be accepted and
+    silently ignored (runs at +8 and -8 deg were identical to flat, review d of the K/L changes)."""
+    assert_names(load_error("hba_paper_110kph_dry", sets), "road.slope_deg", "sedan_esp", "flat road only")
+
+
+def test_a_zero_grade_on_the_two_track_plant_is_accepted() -> None:
+    load_scenario("hba_paper_110kph_dry", ["road.slope_deg=0"])

@@ -413,6 +413,9 @@ def build_scenario_record(sc: LoadedScenario, where: str) -> dict:
                 raise InputError(f"{where}: vehicle.{section}.period_s = {value:g} must be a whole multiple of "
                                  f"run.controller_period_s = {m.run.controller_period_s:g} (the sensor sampling tick)")
     road = m.road
+    if not getattr(lay, "ROAD_GRADE", True) and (road.slope is not None or (road.slope_deg or 0.0) != 0.0):
+        raise InputError(f"{where}: road.slope_deg / road.slope: the {sc.layout} vehicle has no road grade in its "
+                         "plant (flat road only); remove it or use a vehicle of a layout with a grade force")
     if road.slope is not None:
         flat["road_slope"] = _table(road.slope, "distance_m", "slope_deg", "distance_m", "slope_rad", DEG_TO_RAD)
     else:

@@ -56,6 +56,7 @@ from vehicle_assist.vehicles.common import (
 )
 
 LAYOUT = "sedan_esp"
+ROAD_GRADE = False  # the two-track plant has no grade force: a scenario slope is refused (loader), not ignored
 G = G_MPS2
 STOP_AFTER_S = 1.0  # assumed: the run ends 1 s after standstill (ramp-out and hand-back are over by then)
 WHEELS = ("fl", "fr", "rl", "rr")
