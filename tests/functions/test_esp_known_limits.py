@@ -1,0 +1,75 @@
+"""Known limits of two ESP rules, recorded as strict xfails (each turns into an XPASS failure once fixed).
+
+1. GMA follow during HBA (``vehicle.esp.gma_follow_flag``, 773586b) on a dry/wet split. Criterion: the
+   ``brake_assist.no_worse_heading`` requirement (src/vehicle_assist/data/requirements/brake_assist.toml; source:
+   issue #9 and conventions.md 'Evidence', never worse than no assist): largest heading deviation with HBA <= that of
+   the same stop with HBA off (``vehicle.brake_assist.enabled_flag=0``, as the shipped twin comparisons), floor 0.1 deg.
+2. Reference-speed plausibility while braking (``vehicle.esp.reference_braking_plausibility_flag``, 968b8ea) with a
+   longitudinal accelerometer that over-reads deceleration by 1.4 m/s^2 (stands in for a downhill: the sedan plant
+   ignores road.slope_deg) on an ice-like road. Criterion: brake_assist.md 8 criterion 5 (no wheel lock: every wheel
+   slip < 0.5 for v > 15 km/h except transients shorter than 0.15 s; metric ``wheel_lock_time_max_s``).
+
+The bounds come from the requirement row and the spec, never from these runs; the measured numbers are in the reasons.
+"""
+from __future__ import annotations
+
+import pytest
+
+import vehicle_assist as va
+
+SPLIT = "hba_split_mu_80kph"
+HEADING_FLOOR_DEG = 0.1  # brake_assist.toml no_worse_heading: floor 0.1 deg (one GMA step, issue #9 review)
+LOCK_TRANSIENT_MAX_S = 0.15  # brake_assist.md 8 criterion 5: lock transients shorter than 0.15 s
+
+GMA_REASON = (
+    "known limit of GMA follow (esp.gma_follow_flag, 773586b) on dry/wet split, no noise: heading max with HBA vs "
+    "without 3.15 vs 2.27 deg at 80 km/h, 8.19 vs 0.18 deg at 140 km/h (steering 58 vs 1.5 deg); the dry front is "
+    "pumped to the wet front's ABS peak estimate and held (R_GMA_HOLD), so it ratchets one way while the wet wheel "
+    "dumps; HBA was already worse than no HBA here before gma_follow (6.43 deg at 140 km/h)")
+
+
+def _dry_wet_split_pair(speed_kph: float):
+    sets = ['vehicle.surface.left="dry"', 'vehicle.surface.right="wet"', f"run.initial_speed_kph={speed_kph}"]
+    on, off = va.simulate_batch([va.load_scenario(SPLIT, sets=sets),
+                                 va.load_scenario(SPLIT, sets=[*sets, "vehicle.brake_assist.enabled_flag=0"])]).metrics
+    return on, off
+
+
+@pytest.mark.xfail(strict=True, reason=GMA_REASON)
+@pytest.mark.parametrize("speed_kph", [80, 140])
+def test_gma_follow_dry_wet_split_hba_heading_not_worse(speed_kph):
+    on, off = _dry_wet_split_pair(speed_kph)
+    assert on["hba_activated_flag"] == 1.0  # the assist ran (else the comparison says nothing)
+    assert on["heading_max_deg"] <= max(HEADING_FLOOR_DEG, off["heading_max_deg"]), (
+        on["heading_max_deg"], off["heading_max_deg"])
+
+
+ICE_REASON = (
+    "known limit of the reference plausibility while braking (esp.reference_braking_plausibility_flag, 968b8ea): "
+    "ice60 (hba_snow_60kph pedal, dry surface scaled road.friction_mu=0.15, wheel-speed noise 0.2 rad/s, seed 1) "
+    "with the a_x sensor over-reading deceleration by 1.4 m/s^2: a wheel locked 0.49 s with the rule vs 0.0 s "
+    "without (bound 0.15 s); a reference drifted low cannot rise back (rise limit a_x,meas + 2 m/s^2 while braking), "
+    "RL, the wheel nearest the true speed, is left out (its own ABS mode is off while the rear select-low releases "
+    "it) and the other three lock")
+
+
+def _ice60(flag: int):
+    sets = ['vehicle.surface.left="dry"', 'vehicle.surface.right="dry"', "road.friction_mu=0.15",
+            "sensors.longitudinal_accel.bias_mps2=-1.4", "run.seed=1",
+            f"vehicle.esp.reference_braking_plausibility_flag={flag}"]
+    sets += [f"sensors.wheel_speed_{w}.noise_std_radps=0.2" for w in ("fl", "fr", "rl", "rr")]
+    return va.load_scenario("hba_snow_60kph", sets=sets)
+
+
+@pytest.mark.xfail(strict=True, reason=ICE_REASON)
+def test_braking_plausibility_ice_with_accel_bias_no_wheel_lock():
+    m = va.simulate(_ice60(1)).metrics
+    assert m["wheel_lock_time_max_s"] <= LOCK_TRANSIENT_MAX_S, m["wheel_lock_time_max_s"]
+
+
+def test_ice_with_accel_bias_without_braking_plausibility_no_wheel_lock():
+    """Control for the xfail above: the same run with the rule off keeps lock within criterion 5 (measured 0.0 s),
+    so the rule, not the road or the sensor bias alone, causes the lock."""
+    m = va.simulate(_ice60(0)).metrics
+    assert m["wheel_lock_time_max_s"] <= LOCK_TRANSIENT_MAX_S, m["wheel_lock_time_max_s"]
+    assert m["wheel_stopped_moving_flag"] == 0.0
