@@ -125,6 +125,18 @@ def initial_state() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def _persisted(ctl, new_ex, dt, p):
+    """A pending change of the excluded wheel (to ``new_ex``, -1 = none) one period older; True (and made) once it has
+    persisted for ``reference_implausible_time_s``."""
+    ctl[C_REF_PERSIST_S] += dt
+    if ctl[C_REF_PERSIST_S] >= p.esp_reference_implausible_time_s - 1e-9:
+        ctl[C_REF_EXCLUDED] = float(new_ex)
+        ctl[C_REF_PERSIST_S] = 0.0
+        return True
+    return False
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def plausible_reference(ctl, vw, braking, p, dt, a_x=0.0, abs_quiet_s=None):
     """Wheel-signal plausibility of the reference speed (module doc, step 1): updates ``ctl[C_REF_EXCLUDED]`` and
     returns (max of the plausible wheels, True when the excluded wheel changed this period). ``a_x``: measured
@@ -148,10 +160,7 @@ def plausible_reference(ctl, vw, braking, p, dt, a_x=0.0, abs_quiet_s=None):
                     best = vw[i] / hi
                     fast = i
         if fast >= 0:
-            ctl[C_REF_PERSIST_S] += dt
-            if ctl[C_REF_PERSIST_S] >= p.esp_reference_implausible_time_s - 1e-9:
-                ctl[C_REF_EXCLUDED] = float(fast)
-                ctl[C_REF_PERSIST_S] = 0.0
+            if _persisted(ctl, fast, dt, p):
                 ex = fast
                 changed = True
         else:
@@ -161,10 +170,7 @@ def plausible_reference(ctl, vw, braking, p, dt, a_x=0.0, abs_quiet_s=None):
         fast = bc._candidate_ws(vw, 0.0, p.esp_reference_implausible_frac, -1) \
             if np.median(vw) > p.esp_abs_min_speed_mps else ex
         if fast != ex:
-            ctl[C_REF_PERSIST_S] += dt
-            if ctl[C_REF_PERSIST_S] >= p.esp_reference_implausible_time_s - 1e-9:
-                ctl[C_REF_EXCLUDED] = float(fast)
-                ctl[C_REF_PERSIST_S] = 0.0
+            if _persisted(ctl, fast, dt, p):
                 ex = fast
                 changed = True
         else:
