@@ -65,13 +65,18 @@ def test_panic_stop_after_blowout_without_compensation_brakes(env, name, flag):
     pedal is at least R13-H's adhesion utilisation 0.75 of the friction left for braking (F4: 0.75*4.16 = 3.12 m/s^2
     on mu 0.447 in the 650 m curve; straight: 0.75*4.38 = 3.29). With the seeded defect (max of four) ABS dumps every
     intact wheel and the car decelerates far below it (the check can fail)."""
-    point = F4 if name == "F4" else STRAIGHT
+    _check_braking(env, F4 if name == "F4" else STRAIGHT, None if flag else DEFECT)
+
+
+def _check_braking(env, point, defect):
+    """No-compensation twin of ``point`` (with ``defect`` set, or as shipped when None): mean deceleration from 0.3 s to
+    1.3 s after the pedal against ``_bound``; a defect must fall below it (negative control), the shipped code reach it."""
     sc = env.scenario(point, baseline=True)
-    run = va.simulate(sc if flag else sc.with_sets(DEFECT), requirements=False)
+    run = va.simulate(sc if defect is None else sc.with_sets(defect), requirements=False)
     t0 = point["brake.start_s"] + 0.3
     a = _decel(run, t0, t0 + 1.0)
     bound = _bound(point)
-    if flag:
+    if defect is None:
         assert a >= bound, (a, bound)
     else:
         assert a < bound, (a, bound)  # negative control: the defect fails the bound
@@ -92,15 +97,7 @@ def test_pedal_right_after_blowout_without_compensation_brakes(env, flag):
     friction left for braking (0.75*4.43 = 3.32 m/s^2 on mu 0.468 in the 650 m curve at 100 km/h). While braking the
     car cannot speed up, so a wheel well above the rate-bounded reference is implausible. With the seeded defect
     (decision frozen while braking) the blown wheel stays in the reference and ABS dumps every intact wheel."""
-    sc = env.scenario(F4B, baseline=True)
-    run = va.simulate(sc if flag else sc.with_sets(BRAKING_DEFECT), requirements=False)
-    t0 = F4B["brake.start_s"] + 0.3
-    a = _decel(run, t0, t0 + 1.0)
-    bound = _bound(F4B)
-    if flag:
-        assert a >= bound, (a, bound)
-    else:
-        assert a < bound, (a, bound)  # negative control: the defect fails the bound
+    _check_braking(env, F4B, None if flag else BRAKING_DEFECT)
 
 
 @pytest.mark.parametrize("scenario", ["hba_split_mu_80kph", "hba_snow_60kph"])
