@@ -272,12 +272,13 @@ def slip_reference_mps(st, b, tg, v_ref, braking):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def wheel_accel_mps2(st, i, dt):
-    """Wheel i's circumferential acceleration [m/s^2]: least-squares slope of its last WS_WINDOW_N speed samples
-    (first-derivative Savitzky-Golay filter of degree 1: Savitzky and Golay, Analytical Chemistry 36 (1964) 1627),
-    the derivative at the window centre, as ``wheel_speed_mean``; 0 with fewer than 2 samples."""
+def wheel_accel_mps2(st, i, dt, window=WS_WINDOW_N):
+    """Wheel i's circumferential acceleration [m/s^2]: least-squares slope of its last ``window`` (at most WS_WINDOW_N)
+    speed samples (first-derivative Savitzky-Golay filter of degree 1: Savitzky and Golay, Analytical Chemistry 36
+    (1964) 1627), the derivative at the window centre, as ``wheel_speed_mean``; 0 with fewer than 2 samples. The ESP's
+    ABS reads it too, over its shorter window (functions/esp.py ``abs_wheel_decel_mps2``)."""
     n = WS_WINDOW_N
-    m = int(st[S_BUF_FILL])
+    m = min(int(st[S_BUF_FILL]), window)
     if m < 2:
         return 0.0
     k = int(st[S_BUF_LAST])

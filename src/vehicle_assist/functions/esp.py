@@ -223,22 +223,11 @@ def _estimate(mode, p_est, p_src, dt, p, open_before_s=0.0):
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def abs_wheel_decel_mps2(bst, i, dt):
     """Wheel i's deceleration for the ABS rules (``esp.abs_signal_filter_flag``): minus the least-squares slope of
-    its last ABS_DECEL_WINDOW_N wheel-speed samples (first-derivative Savitzky-Golay filter of degree 1, Savitzky and
-    Golay 1964), read from the newest end of the wheel-speed window that blowout_compensation.reference_step writes
-    every period for all four wheels whether or not that function is enabled; 0 before the window holds 2 samples."""
-    n = bc.WS_WINDOW_N
-    m = min(int(bst[bc.S_BUF_FILL]), ABS_DECEL_WINDOW_N)
-    if m < 2:
-        return 0.0
-    k = int(bst[bc.S_BUF_LAST])
-    tbar = 0.5 * (m - 1)
-    num = 0.0
-    den = 0.0
-    for j in range(m):
-        tj = (m - 1 - j) - tbar  # sample j periods old
-        num += tj * bst[bc.S_VW_BUF + i * n + (k - j) % n]
-        den += tj * tj
-    return -num / (den * max(dt, 1e-6))
+    its last ABS_DECEL_WINDOW_N wheel-speed samples (``blowout_compensation.wheel_accel_mps2``, the first-derivative
+    Savitzky-Golay filter of degree 1, Savitzky and Golay 1964), read from the newest end of the wheel-speed window
+    that blowout_compensation.reference_step writes every period for all four wheels whether or not that function is
+    enabled; 0 before the window holds 2 samples."""
+    return -bc.wheel_accel_mps2(bst, i, dt, ABS_DECEL_WINDOW_N)
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
