@@ -289,6 +289,43 @@ def test_row_hold_refused_by_kinematic_sideslip(params):
     assert c.mode == "HOLD"
 
 
+BLOWN_RL = dict(vw=(V, V, FAST, V), tpms=3.0)
+# lock pressure of a front wheel at the spec's road mu 0.8 on its static load, written out from the BJ2500 data
+# (vehicles/suv_bj2500.toml): K_b = pi/4*0.066^2 m^2 * 0.110 m * 0.38 * 0.95 * 2 faces = 2.72e-4 N*m/Pa,
+# F_z = 1700 kg * 9.81 * (2.576 - 1.159)/2.576 / 2 = 4587 N, p = 0.8*F_z*0.359 m/K_b = 48.5 bar
+P_LOCK_FRONT = 0.8 * (1700 * 9.81 * (2.576 - 1.159) / 2.576 / 2) * 0.359 / (np.pi / 4 * 0.066 ** 2 * 0.110 * 0.38 * 0.95 * 2)
+
+
+def test_rows_build_hold_limited_spin_front(params):
+    """BUILD/HOLD->LIMITED (beyond_stable_region, spin_front_flag): a rear-left blowout compensated on RR, the yaw rate
+    10 % above the bound TOWARD the blown side (CCW +): RR is no longer built (NONE), the right front takes the
+    counter-brake with a target at its lock pressure (closed form above, +-25 % for the blowout's load transfer), code 5;
+    it is not refused while the spin lasts, and is dumped while the car rotates away from the blown side faster than
+    the ESP's 5 deg/s. Yaw beyond the bound AWAY from the blown side is still refused; with the flag 0 (defect) the
+    spin toward the blown side is refused as before."""
+    e = Ecu(params).run(0.2).run(0.055, **BLOWN_RL)
+    assert e.mode == "BUILD" and int(e.st[bc.S_TARGET]) == 3
+    e.run(0.005, yaw=1.1 * R_BOUND, **BLOWN_RL)
+    assert e.rows[-1] == ("BUILD", "LIMITED", "beyond_stable_region") and e.st[bc.S_LIMIT_CODE] == bc.LIMIT_SPIN_FRONT
+    assert int(e.st[bc.S_TARGET]) == 1 and e.req[1] == bc.Q_BUILD and e.req[3] == bc.Q_NONE and e.req[2] == bc.Q_RELEASE
+    assert 0.75 * P_LOCK_FRONT < e.st[bc.S_P_REQ] < 1.25 * P_LOCK_FRONT
+    e.run(0.5, yaw=1.5 * R_BOUND, **BLOWN_RL)
+    assert e.mode == "LIMITED" and e.req[1] in (bc.Q_BUILD, bc.Q_HOLD)
+    e.run(0.01, yaw=-0.1, **BLOWN_RL)  # rotating back at 5.7 deg/s
+    assert e.mode == "LIMITED" and e.req[1] == bc.Q_RELEASE
+    h = Ecu(params).run(0.2).run(0.4, **BLOWN_RL)
+    assert h.mode == "HOLD"
+    h.run(0.005, yaw=1.1 * R_BOUND, **BLOWN_RL)
+    assert h.rows[-1] == ("HOLD", "LIMITED", "beyond_stable_region") and int(h.st[bc.S_TARGET]) == 1
+    a = Ecu(params).run(0.2).run(0.4, **BLOWN_RL).run(0.005, yaw=-1.1 * R_BOUND, **BLOWN_RL)
+    assert a.rows[-1] == ("HOLD", "REFUSED", "beyond_stable_region")
+    d = Ecu(params, blowout_compensation_spin_front_flag=0.0).run(0.2).run(0.4, **BLOWN_RL)
+    d.run(0.005, yaw=1.1 * R_BOUND, **BLOWN_RL)
+    assert d.rows[-1] == ("HOLD", "REFUSED", "beyond_stable_region")
+    f = Ecu(params).run(0.2).run(0.4, **BLOWN_LF).run(0.005, yaw=1.1 * R_BOUND, **BLOWN_LF)
+    assert f.rows[-1] == ("HOLD", "REFUSED", "beyond_stable_region")  # a front blowout: refusal as before
+
+
 def test_every_machine_row_has_a_test_above():
     """Guard: the rows named in the tests above are exactly the rows of MACHINE (a new row needs a test)."""
     covered = {("IDLE", "BUILD", "blowout_detected"), ("BUILD", "HOLD", "valve_time_elapsed"),
@@ -300,7 +337,8 @@ def test_every_machine_row_has_a_test_above():
                ("HOLD", "ENDED", "vehicle_slow"), ("LIMITED", "ENDED", "vehicle_slow"),
                ("IDLE", "REFUSED", "beyond_stable_region"), ("REJECTED", "REFUSED", "beyond_stable_region"),
                ("BUILD", "REFUSED", "beyond_stable_region"), ("HOLD", "REFUSED", "beyond_stable_region"),
-               ("LIMITED", "REFUSED", "beyond_stable_region")}
+               ("LIMITED", "REFUSED", "beyond_stable_region"),
+               ("BUILD", "LIMITED", "beyond_stable_region"), ("HOLD", "LIMITED", "beyond_stable_region")}
     assert {(t.source, t.target, t.guard) for t in bc.MACHINE.transitions} == covered
 
 

@@ -132,6 +132,10 @@ MACHINE = StateMachine("blowout_compensation", MODES, (
     Transition("BUILD", "REFUSED", "beyond_stable_region", "the car leaves the stable region during the build: stand down"),
     Transition("HOLD", "REFUSED", "beyond_stable_region", "as from BUILD"),
     Transition("LIMITED", "REFUSED", "beyond_stable_region", "as from BUILD"),
+    Transition("BUILD", "LIMITED", "beyond_stable_region", "rear blowout, rear compensating wheel, the car leaves the "
+               "stable region rotating toward the blown side (spin_front_flag): the rear wheel released, the front "
+               "wheel of its side braked to the ECU's lock estimate (ESP oversteer practice), limit code 5"),
+    Transition("HOLD", "LIMITED", "beyond_stable_region", "as from BUILD"),
 ))
 G_DETECTED, G_STUCK, G_VALVE_DONE, G_YAW_IMPLAUSIBLE, G_SLOW, G_CLEARED, G_UNSTABLE = range(7)
 REASONS = MACHINE.guards
@@ -161,11 +165,13 @@ SLIP_HYST_FRAC = 0.1  # assumed: the limit, once acting, stops only below 0.9*ca
 # detection sources (S_SOURCES): bit 1 wheel speeds, bit 2 TPMS
 SRC_WS, SRC_TPMS = 1, 2
 RISE_MARGIN_MPS2 = 2.0  # assumed: the BJ2500 cannot speed up faster than a_x,meas + 2 m/s^2 (0-100 km/h in ~14 s)
-LIMIT_NONE, LIMIT_OTHER_AXLE, LIMIT_NO_AUTHORITY, LIMIT_YAW_BOUND, LIMIT_SIDESLIP_BOUND = 0, 1, 2, 3, 4
+LIMIT_NONE, LIMIT_OTHER_AXLE, LIMIT_NO_AUTHORITY, LIMIT_YAW_BOUND, LIMIT_SIDESLIP_BOUND, LIMIT_SPIN_FRONT = 0, 1, 2, 3, 4, 5
 LIMIT_REASONS = ("none", "opposite inlet valve stuck closed: other-axle wheel of the same side, capped at its lock pressure",
                  "opposite inlet valve and its substitute stuck closed: no braking authority",
                  "refused: yaw rate above the stable bound 0.85*mu*g/u (Rajamani 2012, 8.x)",
-                 "refused: sideslip estimate above the stable bound atan(0.02*mu*g) (Rajamani 2012, 8.x)")
+                 "refused: sideslip estimate above the stable bound atan(0.02*mu*g) (Rajamani 2012, 8.x)",
+                 "beyond the stable region rotating toward the blown side (rear blowout): rear wheel released, the "
+                 "front wheel of its side braked to its lock estimate (spin_front_flag)")
 YAW_BOUND_FRAC = 0.85  # Rajamani, Vehicle Dynamics and Control (2nd ed. 2012), ch. 8 yaw control: |r| <= 0.85*mu*g/u
 SIDESLIP_BOUND_S2_PER_M = 0.02  # same source: beta_max = atan(0.02*mu*g)
 # measured tire capacity of the compensating wheel (tire_capacity_check / tire_capacity_rule)
@@ -636,6 +642,39 @@ def _plan(st, b, target, limited, slip_mean, a_x, a_y, p_est, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def spin_front_applies(b, tg, yaw_rate_meas, inlet_ok, p):
+    """``spin_front_flag`` (0 = seeded defect = refuse): a REAR blown wheel compensated on the rear axle, the measured
+    yaw rate toward the blown side (the spin the flat rear tire starts) and the front wheel of the compensating side
+    healthy."""
+    if p.blowout_compensation_spin_front_flag < 0.5 or b < 2 or tg < 2:
+        return False
+    return toward_blown_side(b, yaw_rate_meas) > 0.0 and inlet_ok[_substitute(b)] > 0.5
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def _plan_spin_front(st, sub, p_est, p):
+    """Spin-front target (after ``_plan`` on the front wheel ``sub``): the ECU's lock estimate mu*F'_z*R/K_b (nominal
+    mu, redistributed load) - the outer front wheel braked up to its slip limit, ABS guarding it, as an ESP's oversteer
+    intervention; valve time (eq. 30) for the build from its present pressure."""
+    gain = p.brakes_front_gain_nm_per_pa
+    p0 = max(p_est[sub], 0.0)
+    p_lock = p.blowout_compensation_mu_estimate_frac * st[S_FZ_TARGET] * p.body_wheel_radius_m / gain
+    p_add = max(p_lock - p0, 0.0)
+    p_max = p.esp_unit_accumulator_pa
+    t_end, sat = valve_time_s(p0 + p_add, p_max, p.blowout_compensation_valve_dead_time_s,
+                              p.blowout_compensation_valve_t1_s, p.blowout_compensation_valve_t2_s)
+    t_beg, _ = valve_time_s(p0, p_max, p.blowout_compensation_valve_dead_time_s,
+                            p.blowout_compensation_valve_t1_s, p.blowout_compensation_valve_t2_s)
+    dead = p.blowout_compensation_valve_dead_time_s if p0 > 0.0 else 0.0
+    st[S_P_ADD] = p_add
+    st[S_P_START] = p0
+    st[S_P_REQ] = p0 + p_add
+    st[S_T_VALVE] = max(t_end - t_beg + dead, 0.0) if p_add > 0.0 else 0.0
+    st[S_SATURATED] = 1.0 if sat else 0.0
+    st[S_ELAPSED] = 0.0
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_wheel, inlet_ok, p_est, p, dt, t,
                  machine_id, events, n_events, requests, a_y_meas=0.0):
     """One ESP period of the compensation (after ``reference_step``); fills ``requests[4]`` (Q_*);
@@ -751,7 +790,16 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_CLEAR_S] = 0.0
             st[S_SUSPECT] = -1.0
             st[S_SUSPECT_S] = 0.0
-        elif code != LIMIT_NONE:
+        elif code != LIMIT_NONE and mode != LIMITED and spin_front_applies(b, tg, yaw_rate_meas, inlet_ok, p):
+            # rear blowout, beyond the stable region, rotating toward the blown side: stop loading the rear axle and
+            # brake the front wheel of the same side instead (spin_front_flag; module doc)
+            sub = _substitute(b)
+            _plan(st, b, sub, True, st[S_SLIP_EST], a_x, a_y_ref, p_est, p)
+            _plan_spin_front(st, sub, p_est, p)
+            st[S_LIMIT_CODE] = LIMIT_SPIN_FRONT
+            n_events = log_event(events, n_events, t, machine_id, mode, LIMITED, G_UNSTABLE)
+            mode = LIMITED
+        elif code != LIMIT_NONE and not (mode == LIMITED and st[S_LIMIT_CODE] == LIMIT_SPIN_FRONT):
             # the car has left the stable region: the feed-forward stands down (the target wheel back to the driver's
             # pressure and ABS, Q_NONE); a blown wheel confirmed by both sources stays released as in ENDED (it is flat),
             # a single-source detection is released from the latch (not confirmed)
@@ -780,6 +828,10 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             requests[tg] = Q_BUILD
         elif mode == LIMITED:
             requests[tg] = Q_BUILD if st[S_ELAPSED] < st[S_T_VALVE] else Q_HOLD
+            if st[S_LIMIT_CODE] == LIMIT_SPIN_FRONT and toward_blown_side(b, yaw_rate_meas) < -p.esp_yaw_dump_rate_radps:
+                # the spin arrested and the car rotating back away from the blown side faster than the ESP's yaw dump
+                # rate (the limit it puts on any brake-induced yaw moment): dumped; re-built by the ESP below it
+                requests[tg] = Q_RELEASE
         elif mode == HOLD:
             requests[tg] = Q_HOLD
             toward = toward_blown_side(b, yaw_rate)
@@ -846,7 +898,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                 requests[tg] = Q_RELEASE if p_est[tg] > st[S_P_START] + 1.0e5 else Q_HOLD
             elif mode == BUILD and st[S_SLIP_LIMITED] > 0.5:
                 requests[tg] = Q_HOLD  # once limited, the build does not start again: hold at the lowered target
-        if p.blowout_compensation_tire_capacity_flag > 0.5:
+        if p.blowout_compensation_tire_capacity_flag > 0.5 and st[S_LIMIT_CODE] != LIMIT_SPIN_FRONT:
+            # (not on the spin-front wheel: its lost lateral force is the intended understeer)
             tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, dt)
     return n_events
 
