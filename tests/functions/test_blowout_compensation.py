@@ -326,6 +326,24 @@ def test_rows_build_hold_limited_spin_front(params):
     assert f.rows[-1] == ("HOLD", "REFUSED", "beyond_stable_region")  # a front blowout: refusal as before
 
 
+def test_rows_idle_rejected_limited_spin_front(params):
+    """IDLE/REJECTED->LIMITED (beyond_stable_region): a rear-left blowout found with the car already beyond the yaw
+    bound toward the blown side: no plan on RR, the right front braked (code 5); beyond it away from the blown side
+    (or with spin_front_flag 0) refused as before. REJECTED: a wheel-speed-only RR signature rejected (yaw away from
+    RR = CCW +), then RL found beyond the bound toward the left."""
+    e = Ecu(params).run(0.2).run(0.1, yaw=1.1 * R_BOUND, **BLOWN_RL)
+    assert e.rows[0] == ("IDLE", "LIMITED", "beyond_stable_region") and e.st[bc.S_LIMIT_CODE] == bc.LIMIT_SPIN_FRONT
+    assert int(e.st[bc.S_TARGET]) == 1 and e.req[1] == bc.Q_BUILD and e.req[3] == bc.Q_NONE
+    a = Ecu(params).run(0.2).run(0.1, yaw=-1.1 * R_BOUND, **BLOWN_RL)
+    assert a.rows[0] == ("IDLE", "REFUSED", "beyond_stable_region")
+    d = Ecu(params, blowout_compensation_spin_front_flag=0.0).run(0.2).run(0.1, yaw=1.1 * R_BOUND, **BLOWN_RL)
+    assert d.rows[0] == ("IDLE", "REFUSED", "beyond_stable_region")
+    r = Ecu(params, **WS_ONLY).run(0.2).run(0.3, vw=(V, V, V, FAST)).run(0.01, vw=(V, V, V, FAST), yaw=0.05)
+    assert r.mode == "REJECTED"
+    r.run(0.1, vw=(V, V, FAST, FAST), yaw=1.1 * R_BOUND)
+    assert r.rows[-1] == ("REJECTED", "LIMITED", "beyond_stable_region") and int(r.st[bc.S_TARGET]) == 1
+
+
 def test_every_machine_row_has_a_test_above():
     """Guard: the rows named in the tests above are exactly the rows of MACHINE (a new row needs a test)."""
     covered = {("IDLE", "BUILD", "blowout_detected"), ("BUILD", "HOLD", "valve_time_elapsed"),
@@ -338,7 +356,8 @@ def test_every_machine_row_has_a_test_above():
                ("IDLE", "REFUSED", "beyond_stable_region"), ("REJECTED", "REFUSED", "beyond_stable_region"),
                ("BUILD", "REFUSED", "beyond_stable_region"), ("HOLD", "REFUSED", "beyond_stable_region"),
                ("LIMITED", "REFUSED", "beyond_stable_region"),
-               ("BUILD", "LIMITED", "beyond_stable_region"), ("HOLD", "LIMITED", "beyond_stable_region")}
+               ("BUILD", "LIMITED", "beyond_stable_region"), ("HOLD", "LIMITED", "beyond_stable_region"),
+               ("IDLE", "LIMITED", "beyond_stable_region"), ("REJECTED", "LIMITED", "beyond_stable_region")}
     assert {(t.source, t.target, t.guard) for t in bc.MACHINE.transitions} == covered
 
 

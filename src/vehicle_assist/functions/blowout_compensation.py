@@ -136,6 +136,8 @@ MACHINE = StateMachine("blowout_compensation", MODES, (
                "stable region rotating toward the blown side (spin_front_flag): the rear wheel released, the front "
                "wheel of its side braked to the ECU's lock estimate (ESP oversteer practice), limit code 5"),
     Transition("HOLD", "LIMITED", "beyond_stable_region", "as from BUILD"),
+    Transition("IDLE", "LIMITED", "beyond_stable_region", "as from BUILD, the car already beyond at the detection"),
+    Transition("REJECTED", "LIMITED", "beyond_stable_region", "as from IDLE"),
 ))
 G_DETECTED, G_STUCK, G_VALVE_DONE, G_YAW_IMPLAUSIBLE, G_SLOW, G_CLEARED, G_UNSTABLE = range(7)
 REASONS = MACHINE.guards
@@ -754,7 +756,16 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             _plan(st, b, target, new == LIMITED, slip_mean, a_x, a_y_ref, p_est, p)
             st[S_BETA_EST] = 0.0  # kinematic sideslip estimate, integrated from the detection
             code = unstable_code(yaw_rate_meas, 0.0, v_ref, p)
-            if code != LIMIT_NONE:
+            if code != LIMIT_NONE and new == BUILD and spin_front_applies(b, target, yaw_rate_meas, inlet_ok, p):
+                # already beyond the stable region rotating toward the blown side (rear blowout): the front wheel of the
+                # compensating side instead (spin_front_flag), as from BUILD/HOLD below
+                sub = _substitute(b)
+                _plan(st, b, sub, True, slip_mean, a_x, a_y_ref, p_est, p)
+                _plan_spin_front(st, sub, p_est, p)
+                st[S_LIMIT_CODE] = LIMIT_SPIN_FRONT
+                new = LIMITED
+                reason = G_UNSTABLE
+            elif code != LIMIT_NONE:
                 # already beyond the stable region: the feed-forward cannot help (refusal, reason in the limit code)
                 new = REFUSED
                 reason = G_UNSTABLE

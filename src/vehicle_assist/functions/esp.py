@@ -342,6 +342,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     if 0 <= tgt < 2:
         if ctl[C_GMA_BLOCK] < 0.5 and int(ctl[C_GMA_WHEEL]) == 1 - tgt:
             ctl[C_GMA_WHEEL] = -1.0  # a GMA the compensation's wheel started is not a split-mu GMA
+        if int(ctl[C_GMA_WHEEL]) == tgt and bst[bc.S_LIMIT_CODE] == bc.LIMIT_SPIN_FRONT:
+            # the spin-front wheel (blowout_compensation spin_front_flag) is the car's yaw-stability brake, not the
+            # high-mu side of a split-mu stop: the GMA's delay of it is ended
+            ctl[C_GMA_WHEEL] = -1.0
         ctl[C_GMA_BLOCK] = tgt + 1.0
     elif ctl[C_GMA_BLOCK] > 0.5 and int(wheels[int(ctl[C_GMA_BLOCK]) - 1, A_MODE]) == abs_fn.OFF:
         ctl[C_GMA_BLOCK] = 0.0
