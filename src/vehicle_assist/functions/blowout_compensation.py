@@ -60,6 +60,17 @@ IDLE/REJECTED -> REFUSED and BUILD/HOLD/LIMITED -> REFUSED (beyond_stable_region
 mu_estimate_frac (``unstable_code``): the feed-forward cannot help a sliding car; nothing is planned / the target
 wheel returns to the driver's pressure and ABS; a wheel confirmed by both sources stays
 released (flat); a single-source detection is not held released (review finding 3). Terminal for this blowout.
+Spin-front rule (``spin_front_flag``, 0 = seeded defect = the refusal above; session 2026-11-24 e): a REAR blowout
+compensated on the rear axle whose car is beyond those bounds rotating TOWARD the blown side (the spin the flat rear
+tire starts) goes to LIMITED (same guard, limit code 5) instead of REFUSED: the rear compensating wheel is released (its
+brake force takes friction circle from the axle that already lost the flat tire's lateral force) and the front wheel of
+the same side - the outer front wheel of the spin - is braked to the ECU's lock estimate mu*F'_z*R/K_b, ABS guarding
+it, as an ESP's oversteer intervention (Bosch Automotive Handbook, ESP; van Zanten, SAE 2000-01-0443): its brake
+moment opposes the spin and its lost lateral force understeers. The tire-capacity limit does not apply to it; it is
+dumped while the car turns back away from the blown side faster than the ESP's yaw dump rate; not refused while the
+spin lasts (the ESP's GMA does not delay it, functions/esp.py). Front blowouts and rotation away from the blown side:
+refused as before. Rear spin points (RL 101.9 / 110.7 km/h, 650 m): 18.84 / 21.73 m with the refusal, 7.72 / 6.78 m
+with the rule, none 18.17 / 20.72 m (docs/functions/tire_blowout.md).
 Rear compensating wheel (``slip_limit_flag``, 0 = seeded defect; falsification of issue #10): its brake force is
 kept below the slip where braking starts to cut its lateral force (Dugoff f(H) >= 1 - s; round 3 - with the nominal
 mu alone this limit made two low-friction points worse than none in round 2, the measured tire capacity below now

@@ -116,7 +116,9 @@ _CH = {
     "blowout_valve_time_s": "inlet-valve opening time (eq. 30)",
     "blowout_saturated_flag": "1 if the required pressure exceeds 0.9 p_max (accumulator too low)",
     "blowout_limit_code": ("authority limit / refusal: 0 none, 1 opposite inlet stuck (other axle used), 2 no healthy "
-                           "wheel, 3 refused: |r| > 0.85*mu*g/u, 4 refused: |beta_est| > atan(0.02*mu*g)"),
+                           "wheel, 3 refused: |r| > 0.85*mu*g/u, 4 refused: |beta_est| > atan(0.02*mu*g), 5 rear blowout beyond "
+                           "the stable region toward the blown side: the front wheel of the compensating side braked "
+                           "(spin_front_flag)"),
     "yaw_moment_nm": "net yaw moment of the tire forces M_x + M_y (eqs. 9-11)",
     "lane_offset_m": "lateral offset of the CG from the lane centre (left +)",
     "lane_heading_error_rad": "heading minus lane heading",
