@@ -117,3 +117,21 @@ def test_no_release_moment_without_the_brake_light(run):
     pe = np.array((0.0, 0.0, 0.0, 30e5))
     assert bc.released_moment_nm(RL, 3, 0.0, pe, 30e5, p) == 0.0
     assert bc.released_moment_nm(RL, 3, 1.0, pe, 30e5, p) == 0.0  # all of RR's pressure is the compensation's
+
+
+FALSE_TPMS = "blowout_false_tpms_braking_60kph"  # no blowout, the TPMS names LF from 1 s, the driver brakes
+
+
+@pytest.mark.parametrize("pedal_frac", [0.08, 0.15, 0.3])
+def test_false_tpms_alarm_while_braking_still_rejected(pedal_frac):
+    """The rule's purpose (issue #10: a false detection must not pull the car off its lane): a false LF TPMS alarm
+    under an 80/150/300 N pedal is rejected and the car stays within the 0.978 m lane margin (3.75 m lane, JTG
+    B01-2014; 1.794 m car; the scenario's own check). The release of a healthy wheel is netted out only once that wheel
+    shows a blowout's over-speed, which a healthy wheel does not. Netted out unconditionally (the first version of this
+    rule, commit abaeb12) the 150 N and 300 N cases were never rejected: 1.87 m and 1.23 m (0.19 / 0.13 m with the raw
+    yaw)."""
+    sc = va.load_scenario(FALSE_TPMS, sets=(f"driver.brake_pedal={{time_s = [0.0, 0.5, 0.55], "
+                                            f"frac = [0.0, 0.0, {pedal_frac}]}}",))
+    r = va.simulate(sc, requirements=False)
+    assert any(e.reason == "yaw_implausible" for e in r.events)
+    assert np.max(np.abs(np.asarray(r.trace.channels["lane_offset_m"]))) < 0.978

@@ -20,10 +20,10 @@ Reference: the same blowout without compensation (paper 004 Fig. 4 curve 2; conv
 lateral deviation from t_b to the end of the run, as the requirement tire_blowout.no_worse_than_no_compensation.
 Fixed by ``yaw_net_flag`` (functions/blowout_compensation.py, review finding A): the yaw is judged net of the
 function's own release of the blown wheel from the driver's pressure (b * K_b * dp / R through the ECU's single-track
-model); the compensation pressure stays in the judged yaw, so a false detection is still rejected
-(tests/functions/test_blowout_compensation.py::test_false_tpms_alarm_while_braking_stays_in_lane). Measured: RL 1.39 ->
-0.64 m (none 1.19 m), FL 0.87 -> 0.57 m (none 1.26 m; rejected at t_b + 0.62 s instead of + 0.54 s). The plant
-reference of the released moment and of the model: tests/functions/test_blowout_yaw_net.py."""
+model) once the released wheel shows the blowout's over-speed; the compensation pressure stays in the judged yaw, so a
+false detection is still rejected (tests/functions/test_blowout_yaw_net.py, false TPMS alarms under 80-150 N;
+tests/functions/test_blowout_compensation.py::test_false_tpms_alarm_while_braking_stays_in_lane). Measured: RL 1.39 ->
+0.64 m (none 1.19 m), FL unchanged 0.87 m (none 1.26 m; still rejected at t_b + 0.54 s)."""
 from __future__ import annotations
 
 import pytest
@@ -68,6 +68,6 @@ def test_rl_blowout_braking_defect_rejects_into_worse(env):
 
 
 def test_fl_blowout_braking_rejection_still_guards(env):
-    """The rejection keeps this braking FL point no worse than none (0.57 m, 0.87 m with the raw yaw, vs 1.26 m);
+    """The rejection keeps this braking FL point no worse than none (0.87 vs 1.26 m, with and without yaw_net_flag);
     holding the compensation through it gave 3.72 m."""
     assert _dev(env, FL_SEED3) < _dev(env, FL_SEED3, baseline=True)

@@ -53,9 +53,11 @@ Yaw judged net of the function's own release (``yaw_net_flag``, 0 = seeded defec
 finding A): with a braking driver the detection is TPMS-only, and releasing the blown wheel from the driver's pressure
 is itself a moment away from the blown side, b*K_b*dp/R (``released_moment_nm``: dp = the driver's share of the
 same-axle wheel's pressure estimate minus the blown wheel's); its yaw rate in the ECU's single-track model
-(``own_yaw_step``, nominal data) is added back before the threshold, so a real blowout is not rejected for the yaw
-the release makes (RL 119 km/h, pedal at t_b - 15 ms: 1.39 -> 0.64 m, none 1.19 m). The compensation pressure stays
-in the judged yaw: it balances a real blowout's moment and is the unbalanced moment of a false detection.
+(``own_yaw_step``, nominal data) is added back before the threshold once the released wheel shows the blowout's
+over-speed for ``detection_delay_s`` (a released healthy wheel does not: a false alarm stays judged on the raw yaw), so
+a real blowout is not rejected for the yaw the release makes (RL 119 km/h, pedal at t_b - 15 ms: 1.39 -> 0.64 m, none
+1.19 m). The compensation pressure stays in the judged yaw: it balances a real blowout's moment and is the unbalanced
+moment of a false detection.
 REJECTED -> IDLE (signature_cleared): no candidate on the rejected wheel for ``detection_delay_s``.
 REJECTED -> BUILD / LIMITED: a blowout found on another wheel (same guards as from IDLE).
 HOLD/LIMITED -> ENDED (vehicle_slow): reference speed below the minimum speed: compensation over; a real blown
@@ -161,7 +163,8 @@ S_P_BUF = S_VW_BUF + 4 * WS_WINDOW_N
 # and yaw rate [rad/s], CCW +, integrated from the detection
 S_BETA_OWN = S_P_BUF + 4 * WS_WINDOW_N
 S_R_OWN = S_BETA_OWN + 1
-STATE_SIZE = S_R_OWN + 1
+S_OVERSPEED_S = S_R_OWN + 1  # how long the released blown wheel has shown the blowout's over-speed [s] (yaw_net_flag)
+STATE_SIZE = S_OVERSPEED_S + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -768,6 +771,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_BETA_EST] = 0.0  # kinematic sideslip estimate, integrated from the detection
             st[S_BETA_OWN] = 0.0  # the model of the function's own yaw moment starts at the detection (yaw_net_flag)
             st[S_R_OWN] = 0.0
+            st[S_OVERSPEED_S] = 0.0
             code = unstable_code(yaw_rate_meas, 0.0, v_ref, p)
             if code != LIMIT_NONE:
                 # already beyond the stable region: the feed-forward cannot help (refusal, reason in the limit code)
@@ -789,12 +793,21 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         if p.blowout_compensation_yaw_net_flag > 0.5:
             # yaw plausibility net of the function's own moment (issue #10 review finding A): releasing the blown wheel
             # from a braking driver's pressure yaws the car away from the blown side by itself; its expected yaw rate
-            # (the ECU's single-track model of that moment) is added back before the yaw is judged. The compensation
-            # pressure stays in the judged yaw: with a real blowout it balances the blowout's moment, with a false
-            # detection it is the unbalanced moment the rule must see. Only ever more lenient than the raw rule.
+            # (the ECU's single-track model of that moment) is added back before the yaw is judged - but only once the
+            # released wheel shows the blowout's wheel-speed signature (a flat wheel, free of the brake, turns ~50 %
+            # fast; a released healthy wheel rolls at the car's speed), for detection_delay_s as the detection: with a
+            # false TPMS alarm the release alone must stay judged (netted out unconditionally, a false LF alarm under a
+            # 150 N pedal at 60 km/h was never rejected: 1.87 m vs 0.19 m). The compensation pressure stays in the
+            # judged yaw: with a real blowout it balances the blowout's moment, with a false detection it is the
+            # unbalanced moment the rule must see. Only ever more lenient than the raw rule.
             m_rel = released_moment_nm(b, tg, braking, p_est, st[S_P_REQ] - st[S_P_START], p)
             r_own = toward_blown_side(b, own_yaw_step(st, toward_blown_side(b, -m_rel), v_ref, dt, p))
-            judged = toward + max(-r_own, 0.0)
+            if _candidate_ws(vw, v_ref, p.blowout_compensation_wheel_speed_threshold_frac, -1) == b:
+                st[S_OVERSPEED_S] += dt
+            else:
+                st[S_OVERSPEED_S] = 0.0
+            if st[S_OVERSPEED_S] >= p.blowout_compensation_detection_delay_s - 1e-9:
+                judged = toward + max(-r_own, 0.0)
         if v_ref > 1.0:
             st[S_BETA_EST] += (a_y_meas / v_ref - yaw_rate_meas) * dt  # beta_dot = a_y/u - r (kinematic)
         code = unstable_code(yaw_rate_meas, st[S_BETA_EST], v_ref, p)
