@@ -49,6 +49,15 @@ function (review finding: the latch stayed and the healthy wheel was never brake
 when the driver then braked); the rejected wheel is remembered so the same single-source signature does not
 re-trigger. With TPMS and wheel speeds agreeing the detection is trusted (an over-compensation at low mu is
 left to ABS: releasing let the car drift 3.2 m, falsification finding).
+Yaw judged net of the function's own release (``yaw_net_flag``, 0 = seeded defect = the raw yaw; issue #10 review
+finding A): with a braking driver the detection is TPMS-only, and releasing the blown wheel from the driver's pressure
+is itself a moment away from the blown side, b*K_b*dp/R (``released_moment_nm``: dp = the driver's share of the
+same-axle wheel's pressure estimate minus the blown wheel's); its yaw rate in the ECU's single-track model
+(``own_yaw_step``, nominal data) is added back before the threshold once the released wheel shows the blowout's
+over-speed for ``detection_delay_s`` (a released healthy wheel does not: a false alarm stays judged on the raw yaw), so
+a real blowout is not rejected for the yaw the release makes (RL 119 km/h, pedal at t_b - 15 ms: 1.39 -> 0.64 m, none
+1.19 m). The compensation pressure stays in the judged yaw: it balances a real blowout's moment and is the unbalanced
+moment of a false detection.
 REJECTED -> IDLE (signature_cleared): no candidate on the rejected wheel for ``detection_delay_s``.
 REJECTED -> BUILD / LIMITED: a blowout found on another wheel (same guards as from IDLE).
 HOLD/LIMITED -> ENDED (vehicle_slow): reference speed below the minimum speed: compensation over; a real blown
@@ -167,7 +176,12 @@ WS_WINDOW_N = 8  # assumed: 8 ESP periods = 40 ms: the moving mean cuts white wh
 #   (t2 = 0.2 s, tire_blowout.md 7) and the 50 ms detection delay
 S_VW_BUF = 33
 S_P_BUF = S_VW_BUF + 4 * WS_WINDOW_N
-STATE_SIZE = S_P_BUF + 4 * WS_WINDOW_N
+# the ECU's single-track model of the function's own yaw moment (``yaw_net_flag``, ``own_yaw_step``): sideslip [rad]
+# and yaw rate [rad/s], CCW +, integrated from the detection
+S_BETA_OWN = S_P_BUF + 4 * WS_WINDOW_N
+S_R_OWN = S_BETA_OWN + 1
+S_OVERSPEED_S = S_R_OWN + 1  # how long the released blown wheel has shown the blowout's over-speed [s] (yaw_net_flag)
+STATE_SIZE = S_OVERSPEED_S + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -497,6 +511,47 @@ def reference_yaw_rate(steer_rad, speed_mps, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def released_moment_nm(b, tg, braking, p_est, p_add_cmd_pa, p):
+    """Yaw moment [N*m, + = away from the blown side] of the function's own release of the blown wheel ``b`` from the
+    braking driver's pressure (``yaw_net_flag``): b*K_b*dp/R on the blown axle, dp = the driver's share of the same-axle
+    opposite wheel's pressure estimate (the estimate less the compensation pressure ``p_add_cmd_pa`` commanded on top
+    of it when that wheel is the target) minus what the blown wheel still carries. The opposite wheel's estimate is the
+    measured master pressure as the ESP (proportioning, ABS) lets it through, i.e. what the blown wheel would carry
+    without the function. Zero without the brake-light switch (nothing of the driver's to release)."""
+    if b < 0 or braking < 0.5:
+        return 0.0
+    o = OPPOSITE[b]
+    p_drv = p_est[o] - (max(p_add_cmd_pa, 0.0) if tg == o else 0.0)
+    dp = max(p_drv - max(p_est[b], 0.0), 0.0)
+    if b < 2:
+        return 0.5 * p.chassis_front_track_m * p.brakes_front_gain_nm_per_pa * dp / p.body_wheel_radius_m
+    return 0.5 * p.chassis_rear_track_m * p.brakes_rear_gain_nm_per_pa * dp / p.body_wheel_radius_m
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def own_yaw_step(st, m_z_nm, speed_mps, dt, p):
+    """One ESP period of the ECU's linear single-track model (nominal data, steer 0, as ``reference_yaw_rate``) driven
+    by the yaw moment ``m_z_nm`` [CCW +] (explicit Euler; states S_BETA_OWN, S_R_OWN):
+    m*u*(beta_dot + r) = -(C_f + C_r)*beta - (C_f*l_f - C_r*l_r)*r/u,
+    I_z*r_dot = -(C_f*l_f - C_r*l_r)*beta - (C_f*l_f^2 + C_r*l_r^2)*r/u + M_z;
+    steady state r/M_z = u*(C_f + C_r)/(C_f*C_r*l*(l + K*u^2)). Returns the model yaw rate [rad/s, CCW +]."""
+    u = max(speed_mps, 1.0)
+    l_f = p.chassis_cg_to_front_axle_m
+    l_r = p.chassis_wheelbase_m - l_f
+    c_f = 2.0 * p.tires_cornering_stiffness_front_n_per_rad
+    c_r = 2.0 * p.tires_cornering_stiffness_rear_n_per_rad
+    m = p.body_mass_kg
+    beta = st[S_BETA_OWN]
+    r = st[S_R_OWN]
+    d = c_f * l_f - c_r * l_r
+    beta_dot = (-(c_f + c_r) * beta - d * r / u) / (m * u) - r
+    r_dot = (-d * beta - (c_f * l_f * l_f + c_r * l_r * l_r) * r / u + m_z_nm) / p.body_yaw_inertia_kgm2
+    st[S_BETA_OWN] = beta + beta_dot * dt
+    st[S_R_OWN] = r + r_dot * dt
+    return st[S_R_OWN]
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def stability_bounds(mu, speed_mps):
     """(yaw-rate bound [rad/s], sideslip bound [rad]) of the stable region (Rajamani, Vehicle Dynamics and Control,
     2nd ed. 2012, ch. 8 yaw control - the bounds widely used in ESP literature): |r| <= 0.85*mu*g/u (the yaw rate
@@ -766,6 +821,9 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                 st[S_LIMIT_CODE] = LIMIT_OTHER_AXLE if inlet_ok[target] > 0.5 else LIMIT_NO_AUTHORITY
             _plan(st, b, target, new == LIMITED, slip_mean, a_x, a_y_ref, p_est, p)
             st[S_BETA_EST] = 0.0  # kinematic sideslip estimate, integrated from the detection
+            st[S_BETA_OWN] = 0.0  # the model of the function's own yaw moment starts at the detection (yaw_net_flag)
+            st[S_R_OWN] = 0.0
+            st[S_OVERSPEED_S] = 0.0
             code = unstable_code(yaw_rate_meas, 0.0, v_ref, p)
             if code != LIMIT_NONE and new == BUILD and spin_front_applies(b, target, yaw_rate_meas, inlet_ok, p):
                 # already beyond the stable region rotating toward the blown side (rear blowout): the front wheel of the
@@ -792,6 +850,25 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         tg = int(st[S_TARGET])
         toward = toward_blown_side(b, yaw_rate)  # yaw toward the blown side +
         single = st[S_SOURCES] < SRC_WS + SRC_TPMS - 0.5
+        judged = toward
+        if p.blowout_compensation_yaw_net_flag > 0.5:
+            # yaw plausibility net of the function's own moment (issue #10 review finding A): releasing the blown wheel
+            # from a braking driver's pressure yaws the car away from the blown side by itself; its expected yaw rate
+            # (the ECU's single-track model of that moment) is added back before the yaw is judged - but only once the
+            # released wheel shows the blowout's wheel-speed signature (a flat wheel, free of the brake, turns ~50 %
+            # fast; a released healthy wheel rolls at the car's speed), for detection_delay_s as the detection: with a
+            # false TPMS alarm the release alone must stay judged (netted out unconditionally, a false LF alarm under a
+            # 150 N pedal at 60 km/h was never rejected: 1.87 m vs 0.19 m). The compensation pressure stays in the
+            # judged yaw: with a real blowout it balances the blowout's moment, with a false detection it is the
+            # unbalanced moment the rule must see. Only ever more lenient than the raw rule.
+            m_rel = released_moment_nm(b, tg, braking, p_est, st[S_P_REQ] - st[S_P_START], p)
+            r_own = toward_blown_side(b, own_yaw_step(st, toward_blown_side(b, -m_rel), v_ref, dt, p))
+            if _candidate_ws(vw, v_ref, p.blowout_compensation_wheel_speed_threshold_frac, -1) == b:
+                st[S_OVERSPEED_S] += dt
+            else:
+                st[S_OVERSPEED_S] = 0.0
+            if st[S_OVERSPEED_S] >= p.blowout_compensation_detection_delay_s - 1e-9:
+                judged = toward + max(-r_own, 0.0)
         if v_ref > 1.0:
             st[S_BETA_EST] += (a_y_meas / v_ref - yaw_rate_meas) * dt  # beta_dot = a_y/u - r (kinematic)
         code = unstable_code(yaw_rate_meas, st[S_BETA_EST], v_ref, p)
@@ -802,7 +879,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             _plan(st, b, sub, True, st[S_SLIP_EST], a_x, a_y_ref, p_est, p)
             n_events = log_event(events, n_events, t, machine_id, mode, LIMITED, G_STUCK)
             mode = LIMITED
-        elif single and toward < -p.blowout_compensation_abort_yaw_rate_radps:
+        elif single and judged < -p.blowout_compensation_abort_yaw_rate_radps:
             n_events = log_event(events, n_events, t, machine_id, mode, REJECTED, G_YAW_IMPLAUSIBLE)
             mode = REJECTED
             st[S_REJECTED] = b

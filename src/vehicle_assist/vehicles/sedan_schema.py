@@ -207,8 +207,9 @@ class SedanBlowoutCompensation(Strict):
     stability_refusal_flag: Annotated[int, Field(ge=0, le=1)] = 1  # refusal beyond the stable region; 0 = defect
     tire_capacity_flag: Annotated[int, Field(ge=0, le=1)] = 1  # compensating wheel limited by its measured tire force; 0 = defect
     signal_filter_flag: Annotated[int, Field(ge=0, le=1)] = 1  # limits judged on filtered wheel signals with persistence; 0 = defect (raw samples)
-    brake_gain_tolerance_frac: Annotated[float, Field(ge=0, le=1)] = 0.18
-    spin_front_flag: Annotated[int, Field(ge=0, le=1)] = 1  # rear blowout beyond the stable region toward the blown side: front wheel braked instead of the rear; 0 = defect (refusal)  # capacity rule judged at (1 + tol) x nominal pad friction (SAE J866 code F upper edge 0.45 / mu_b 0.38); 0 = defect
+    brake_gain_tolerance_frac: Annotated[float, Field(ge=0, le=1)] = 0.18  # capacity rule judged at (1 + tol) x nominal pad friction (SAE J866 code F upper edge 0.45 / mu_b 0.38); 0 = defect
+    spin_front_flag: Annotated[int, Field(ge=0, le=1)] = 1  # rear blowout beyond the stable region toward the blown side: front wheel braked instead of the rear; 0 = defect (refusal)
+    yaw_net_flag: Annotated[int, Field(ge=0, le=1)] = 1  # yaw plausibility net of the released blown wheel's moment; 0 = defect (raw yaw)
 
     @model_validator(mode="after")
     def _order(self):
