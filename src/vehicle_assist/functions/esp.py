@@ -481,14 +481,16 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # blowout braking rule (blowout_compensation.braking_rule): the compensating front wheel while the driver
             # brakes goes to S_P_BRAKE, after an ABS dump to no more than its pressure at the dump's start, by the
             # accumulator's pulsed build, then holds (circuit isolated); ABS hold/dump win (lock threat)
-            if wm != W_D and wm != W_H:
+            if wm != W_D:
                 p_t = bst[bc.S_P_BRAKE]
                 if bst[bc.S_P_PREDUMP] > 0.0:
                     p_t = min(p_t, bst[bc.S_P_PREDUMP])
-                if wheels[i, A_P_EST] < p_t - 1.0e5:
+                if wheels[i, A_P_EST] > p_t + 1.0e5 and wheels[i, A_P_EST] > bst[bc.S_P_REQ] + 1.0e5:
+                    wm = W_D  # down to the target (also against an ABS hold: less pressure is always allowed)
+                elif wm == W_H:
+                    pass  # ABS hold: no build
+                elif wheels[i, A_P_EST] < p_t - 1.0e5:
                     wm = W_BP
-                elif wheels[i, A_P_EST] > p_t + 1.0e5 and wheels[i, A_P_EST] > bst[bc.S_P_REQ] + 1.0e5:
-                    wm = W_D
                 else:
                     wm = W_HI
             src_i = p_mc if i < 2 else _prop(p_mc, p)
