@@ -480,7 +480,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                 and (blow_req[i] == bc.Q_BUILD or blow_req[i] == bc.Q_HOLD)):
             # blowout braking rule (blowout_compensation.braking_rule): the compensating front wheel while the driver
             # brakes goes to S_P_BRAKE, after an ABS dump to no more than its pressure at the dump's start, by the
-            # accumulator's pulsed build, then holds (circuit isolated); ABS hold/dump win (lock threat)
+            # accumulator's pulsed build, then holds (circuit isolated); an ABS dump always wins, an ABS hold stops the
+            # build but not the way down to the target
             if wm != W_D:
                 p_t = bst[bc.S_P_BRAKE]
                 if bst[bc.S_P_PREDUMP] > 0.0:
