@@ -97,6 +97,12 @@ scaled to the cap slip, and lowers it again only on a fresh window (latched othe
 its limit is what started the spins of the falsification, docs/functions/tire_blowout.md). 0.1 / 0.2 rad/s of noise on
 the four wheel speeds had taken the shipped RR 60 km/h run from 0.72 m to 2.46 / 7.47 m (= none); now 0.45 / 0.52 /
 0.70 m at 0 / 0.1 / 0.2 rad/s.
+Front blowout with a braking driver (``braking_rule_flag``, 0 = seeded defect; ``braking_rule``, read by the ESP
+arbitration): from the yaw-moment balance of the four brake forces with the blown wheel unbraked,
+M_z = b_f*(D - F_opp) + b_r*(F_rl - F_rr): the compensating front wheel = drag balance (eqs. 26-28) + a share of the
+driver's pressure within its friction circle, the share only while the measured yaw does not point away from the blown
+side, re-built after an ABS dump to its pressure at the dump's start; the rear pair one linear-region cap at the
+measured friction.
 Optional closed loop (``closed_loop_flag``): in HOLD, yaw toward the blown side above the deadband adds
 pulsed build on the braking wheel, yaw away from it dumps; otherwise hold.
 """
