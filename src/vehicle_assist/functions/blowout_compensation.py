@@ -117,6 +117,12 @@ scaled to the cap slip, and lowers it again only on a fresh window (latched othe
 its limit is what started the spins of the falsification, docs/functions/tire_blowout.md). 0.1 / 0.2 rad/s of noise on
 the four wheel speeds had taken the shipped RR 60 km/h run from 0.72 m to 2.46 / 7.47 m (= none); now 0.45 / 0.52 /
 0.70 m at 0 / 0.1 / 0.2 rad/s.
+Front blowout with a braking driver (``braking_rule_flag``, 0 = seeded defect; ``braking_rule``, read by the ESP
+arbitration): from the yaw-moment balance of the four brake forces with the blown wheel unbraked,
+M_z = b_f*(D - F_opp) + b_r*(F_rl - F_rr): the compensating front wheel = drag balance (eqs. 26-28) + a share of the
+driver's pressure within its friction circle, the share only while the measured yaw does not point away from the blown
+side, re-built after an ABS dump to its pressure at the dump's start; the rear pair one linear-region cap at the
+measured friction.
 Optional closed loop (``closed_loop_flag``): in HOLD, yaw toward the blown side above the deadband adds
 pulsed build on the braking wheel, yaw away from it dumps; otherwise hold.
 """
@@ -181,7 +187,14 @@ S_P_BUF = S_VW_BUF + 4 * WS_WINDOW_N
 S_BETA_OWN = S_P_BUF + 4 * WS_WINDOW_N
 S_R_OWN = S_BETA_OWN + 1
 S_OVERSPEED_S = S_R_OWN + 1  # how long the released blown wheel has shown the blowout's over-speed [s] (yaw_net_flag)
-STATE_SIZE = S_OVERSPEED_S + 1
+# braking rule (``braking_rule_flag``, ``braking_rule``): the compensating front wheel's pressure target while the driver
+# brakes [Pa] (-1 = none), the lowest friction the capacity rule measured (0 = none), the rear pair's cap [Pa] (-1 none)
+# and the compensating wheel's pressure when ABS last started a dump on it (re-build target) [Pa] (-1 none)
+S_P_BRAKE = S_OVERSPEED_S + 1
+S_MU_MEAS = S_P_BRAKE + 1
+S_REAR_CAP = S_MU_MEAS + 1
+S_P_PREDUMP = S_REAR_CAP + 1
+STATE_SIZE = S_P_PREDUMP + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -217,6 +230,9 @@ def initial_state() -> np.ndarray:
     st[S_EXCLUDED] = -1.0
     st[S_REJECTED] = -1.0
     st[S_BUF_LAST] = -1.0
+    st[S_P_BRAKE] = -1.0
+    st[S_REAR_CAP] = -1.0
+    st[S_P_PREDUMP] = -1.0
     return st
 
 
@@ -447,6 +463,34 @@ def rear_linear_limit_mu(target, fz_straight_n, a_y, mu, p):
     # cornering stiffness (linear region, F_y = C_y*alpha): intact C_y, blown k_Cy*C_y (tire_blowout.md 7, the ECU's
     # nominal blown-tire data) -> the intact wheel carries 1/(1 + k_Cy) of it
     fy = m * abs(a_y) * l_f / l / (1.0 + p.blowout_cornering_stiffness_frac)
+    cx = p.tires_longitudinal_stiffness_n
+    s_lin = linear_slip_limit_frac(mu, fz, fy, cx)
+    fx_l = cx * s_lin / (1.0 - s_lin)
+    if fx_l <= 0.0:
+        return 0.0, s_lin
+    h = 0.5 * mu * fz / math.sqrt(fx_l * fx_l + fy * fy)
+    return fx_l * (1.0 if h >= 1.0 else h * (2.0 - h)), s_lin
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def wheel_linear_limit_mu(i, fz_straight_n, a_y, mu, blown, p):
+    """(brake force [N], slip) up to which intact wheel ``i`` (front or rear) stays in the Dugoff linear region while
+    carrying its share of its axle's lateral force for a_y (``braking_rule``; ``rear_linear_limit_mu`` for any wheel):
+    load = its straight-driving load -+ the axle's lateral load transfer m*a_y*h*l_o/(B*l) (spec eqs. 3-4, l_o = the
+    other axle's distance to the CG), axle lateral force m*|a_y|*l_o/l shared by cornering stiffness with the other
+    wheel of the axle (the flat tire ``blown`` k_Cy*C_y, an intact one C_y), then the f(H) >= 1 - s boundary
+    (``linear_slip_limit_frac``)."""
+    l = p.chassis_wheelbase_m
+    l_f = p.chassis_cg_to_front_axle_m
+    m = p.body_mass_kg
+    front = i < 2
+    l_o = (l - l_f) if front else l_f
+    track = p.chassis_front_track_m if front else p.chassis_rear_track_m
+    d_fz = m * a_y * p.chassis_cg_height_m * l_o / (track * l)
+    fz = fz_straight_n + (-d_fz if i % 2 == 0 else d_fz)  # a_y > 0 (left turn) loads the right wheels
+    other = i + 1 if i % 2 == 0 else i - 1
+    k_other = p.blowout_cornering_stiffness_frac if other == blown else 1.0
+    fy = m * abs(a_y) * l_o / l / (1.0 + k_other)
     cx = p.tires_longitudinal_stiffness_n
     s_lin = linear_slip_limit_frac(mu, fz, fy, cx)
     fx_l = cx * s_lin / (1.0 - s_lin)
@@ -744,7 +788,7 @@ def _plan_spin_front(st, sub, p_est, p):
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_wheel, inlet_ok, p_est, p, dt, t,
-                 machine_id, events, n_events, requests, a_y_meas=0.0):
+                 machine_id, events, n_events, requests, a_y_meas=0.0, p_mc=0.0):
     """One ESP period of the compensation (after ``reference_step``); fills ``requests[4]`` (Q_*);
     ``braking`` = brake-light switch; ``p_est`` = the ECU's wheel-pressure estimates; the yaw rate is judged
     relative to ``reference_yaw_rate`` of the measured steer angle; ``a_y_meas`` = measured lateral acceleration
@@ -1000,7 +1044,76 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         if p.blowout_compensation_tire_capacity_flag > 0.5 and st[S_LIMIT_CODE] != LIMIT_SPIN_FRONT:
             # (not on the spin-front wheel: its lost lateral force is the intended understeer)
             tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, dt)
+    if p.blowout_compensation_braking_rule_flag > 0.5:
+        braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p)
     return n_events
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p):
+    """One rule for a FRONT blowout while the driver brakes (``braking_rule_flag``, 0 = seeded defect = the rules
+    before; issue #10, falsifier random seed 7 #15/#16). Yaw-moment balance of the four brake forces with the blown
+    front wheel unbraked (it only drags, D = mu_blow*F'_z, eqs. 22-25): M_z = b_f*(D - F_opp) + b_r*(F_rl - F_rr)
+    (blown left; mirrored for the right). Its terms:
+
+    * compensating front wheel (b_f*(D - F_opp)): target = the drag balance p_w of eqs. 26-28 as planned and limited
+      (S_P_REQ, the tire-capacity rule included) plus ``braking_share_frac`` x the driver's pressure, the share at most
+      up to the friction circle of the wheel at the measured friction with its share of the front lateral force for
+      the steered path (F_x <= sqrt((mu*F_z)^2 - F_y^2), F_y = m*|a_y|*l_r/l shared with the flat tire by cornering
+      stiffness); never below the balance. The share is a yaw moment away from the blown side (b_f*share*K_b*p/R):
+      it is taken only while the measured yaw (relative to the steered reference) does not point away from the blown
+      side; yawing away within the closed-loop dead band (yaw_deadband_deg_per_s) it is held where it is, beyond it
+      the wheel goes back to the balance (the true drag D is unknown to the ECU: the yaw rate tells whether F_opp
+      already exceeds it; the share taken open-loop yawed a wet-curve car 1.1 m outward). After an ABS dump it
+      re-builds (functions/esp.py) to no more than its pressure at the dump's start (S_P_PREDUMP, ABS's lock
+      level), not to the plan's lowered no-brake target (a noise-triggered dump held RF at ~7 bar for 1.5 s while
+      the rears took the driver's 30-40 bar).
+    * rear pair (b_r*(F_rl - F_rr)): one cap for both (the lower of the two, as the ESP's select-low, so the pair adds
+      no moment): the Dugoff linear-region force with its half of the rear lateral force at the measured friction
+      (``wheel_linear_limit_mu``, the f(H) >= 1 - s boundary of ``rear_linear_limit`` for an intact rear axle): with
+      the front axle one wheel short the driver's rear pressure alone took the rear tires to 5-10 % slip on a wet
+      curve and the car spun toward the blown side.
+
+    Friction: the lowest the tire-capacity rule measured on the compensating wheel before the pedal (S_MU_MEAS), else
+    the ECU's nominal mu_estimate_frac; the rear cap acts only on a measured friction (without evidence of a slippery
+    road the rear pair stays the driver's and ABS's: at the nominal 0.8 the linear cap made the shipped dry panic stops
+    ~4 m longer). Loads: the ECU's (ecu_loads at the measured a_x, blowout transfer). Writes S_P_BRAKE and S_REAR_CAP
+    (-1 when not acting); the ESP arbitration reads them."""
+    st[S_P_BRAKE] = -1.0
+    st[S_REAR_CAP] = -1.0
+    if braking < 0.5 or b < 0 or b >= 2 or tg < 0 or tg >= 2 or not (mode == BUILD or mode == HOLD or mode == LIMITED):
+        st[S_P_PREDUMP] = -1.0
+        return
+    mu = st[S_MU_MEAS] if st[S_MU_MEAS] > 0.0 else p.blowout_compensation_mu_estimate_frac
+    f0, f1, f2, f3 = ecu_loads(p, a_x)
+    d_r = p.body_wheel_radius_m - p.blowout_inner_radius_m
+    f = transfer_n(b, f0, f1, f2, f3, d_r, p.blowout_suspension_rate_front_n_per_m,
+                   p.blowout_suspension_rate_rear_n_per_m)
+    g0, g1, g2, g3 = redistributed_loads(b, f0, f1, f2, f3, f)
+    gl = (g0, g1, g2, g3)
+    r_w = p.body_wheel_radius_m
+    l = p.chassis_wheelbase_m
+    l_r = l - p.chassis_cg_to_front_axle_m
+    m = p.body_mass_kg
+    d_fz = m * a_y_ref * p.chassis_cg_height_m * l_r / (p.chassis_front_track_m * l)
+    fz = gl[tg] + (-d_fz if tg == 0 else d_fz)  # a_y > 0 (left turn) loads the right wheels
+    fy = m * abs(a_y_ref) * l_r / l / (1.0 + p.blowout_cornering_stiffness_frac)
+    cap = mu * max(fz, 0.0)
+    fx_max = math.sqrt(cap * cap - fy * fy) if cap > fy else 0.0
+    p_bal = st[S_P_REQ]
+    p_circle = fx_max * r_w / p.brakes_front_gain_nm_per_pa
+    p_full = max(p_bal, min(p_bal + p.blowout_compensation_braking_share_frac * max(p_mc, 0.0), p_circle))
+    toward = toward_blown_side(b, yaw_rate)
+    if toward < -p.blowout_compensation_yaw_deadband_radps:
+        st[S_P_BRAKE] = p_bal
+    elif toward < p.blowout_compensation_yaw_deadband_radps:
+        st[S_P_BRAKE] = min(max(p_est[tg], p_bal), p_full) if toward < 0.0 else p_full
+    else:
+        st[S_P_BRAKE] = p_full
+    if st[S_MU_MEAS] > 0.0:
+        f_rl, _ = wheel_linear_limit_mu(2, gl[2], a_y_ref, mu, b, p)
+        f_rr, _ = wheel_linear_limit_mu(3, gl[3], a_y_ref, mu, b, p)
+        st[S_REAR_CAP] = min(f_rl, f_rr) * r_w / p.brakes_rear_gain_nm_per_pa
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -1080,6 +1193,8 @@ def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, 
         f_hold = min(f_hold, (st[S_P_START] + p_replan) * gain / p.body_wheel_radius_m)
         if st[S_CAP_LATCHED] < 0.5 or f_hold < st[S_F_CAP]:
             st[S_F_CAP] = f_hold
+        if st[S_MU_MEAS] <= 0.0 or mu_est < st[S_MU_MEAS]:
+            st[S_MU_MEAS] = mu_est  # the lowest measured friction, for the braking rule (braking_rule)
         st[S_CAP_LATCHED] = 1.0
         st[S_P_REQ] = max(min(st[S_P_REQ], st[S_F_CAP] * p.body_wheel_radius_m / gain), st[S_P_START])
 

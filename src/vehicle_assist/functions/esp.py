@@ -314,6 +314,9 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                                       p.esp_abs_hold_slip_frac, p.esp_abs_dump_decel_mps2, p.esp_abs_rebuild_decel_mps2,
                                       p.esp_abs_idle_time_s,
                                       abs_fn.TABLE, abs_guards)
+        if (new == abs_fn.DUMP and mode != abs_fn.DUMP and i == comp_wheel
+                and p.blowout_compensation_braking_rule_flag > 0.5):
+            bst[bc.S_P_PREDUMP] = wheels[i, A_P_EST]  # braking rule: the re-build after this dump goes back to here
         if new != mode:
             if wheels[i, A_LOGGED] < ABS_LOG_CAP:
                 n_events = log_event(events, n_events, t, m_abs0 + i, mode, new, reason)
@@ -395,7 +398,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     p_est = wheels[:, A_P_EST].copy()
     n_events = bc.blowout_step(bst, vw_arr, v_ref_intact, 1.0 if bls else 0.0, meas.longitudinal_accel_mps2,
                                meas.yaw_rate_radps, meas.steering_angle_rad, tpms, inlet_ok, p_est, p, dt, t, m_blow,
-                               events, n_events, blow_req, meas.lateral_accel_mps2)
+                               events, n_events, blow_req, meas.lateral_accel_mps2, p_mc)
 
     # arbitration and the ECU's pressure estimate
     # Per circuit, during an assist, which pressure source serves it is decided once by the front wheel (latched):
@@ -476,7 +479,39 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # (UN R139 category B: eased to 0.6 F_ABS) is the assist's case - the pump keeps re-building toward
             # the ABS level the driver's pressure is leaving (BPM there cost 0.015 m of the R139 stop).
             wm = W_BPM
-        if abs_ok and blow_req[i] != bc.Q_NONE:
+        brake_rule = p.blowout_compensation_braking_rule_flag > 0.5
+        if (abs_ok and brake_rule and bst[bc.S_P_BRAKE] >= 0.0 and i == int(bst[bc.S_TARGET])
+                and (blow_req[i] == bc.Q_BUILD or blow_req[i] == bc.Q_HOLD)):
+            # blowout braking rule (blowout_compensation.braking_rule): the compensating front wheel while the driver
+            # brakes goes to S_P_BRAKE, after an ABS dump to no more than its pressure at the dump's start, by the
+            # accumulator's pulsed build, then holds (circuit isolated); an ABS dump always wins, an ABS hold stops the
+            # build but not the way down to the target
+            if wm != W_D:
+                p_t = bst[bc.S_P_BRAKE]
+                if bst[bc.S_P_PREDUMP] > 0.0:
+                    p_t = min(p_t, bst[bc.S_P_PREDUMP])
+                if wheels[i, A_P_EST] > p_t + 1.0e5 and wheels[i, A_P_EST] > bst[bc.S_P_REQ] + 1.0e5:
+                    wm = W_D  # down to the target (also against an ABS hold: less pressure is always allowed)
+                elif wm == W_H:
+                    pass  # ABS hold: no build
+                elif wheels[i, A_P_EST] < p_t - 1.0e5:
+                    wm = W_BP
+                else:
+                    wm = W_HI
+            src_i = p_mc if i < 2 else _prop(p_mc, p)
+            if wm == W_H and wheels[i, A_P_EST] > src_i + RAMP_SETTLED_PA:
+                wm = W_HI  # (as below: with the USV open the return check valve would drain it)
+            if wm == W_D and wheels[i, A_P_EST] < p.esp_unit_lpa_pressure_pa + 0.5e5:
+                wm = W_HI  # already empty: keep the inlet closed
+        elif abs_ok and brake_rule and i >= 2 and bst[bc.S_REAR_CAP] >= 0.0 and blow_req[i] == bc.Q_NONE:
+            # blowout braking rule: the rear pair held at its cap (ABS hold, circuit open), dumped above it by more
+            # than 1 bar; ABS's own hold/dump win
+            if wm != W_D and wm != W_H and wm != W_HI:
+                if wheels[i, A_P_EST] > bst[bc.S_REAR_CAP] + 1.0e5:
+                    wm = W_D
+                elif wheels[i, A_P_EST] >= bst[bc.S_REAR_CAP]:
+                    wm = W_H
+        elif abs_ok and blow_req[i] != bc.Q_NONE:
             wm = BLOWOUT_ARBITRATION[blow_req[i], wm]
             src_i = p_mc if i < 2 else _prop(p_mc, p)
             if blow_req[i] == bc.Q_HOLD and wm == W_HI and src_i > wheels[i, A_P_EST] + 1.0e5:
