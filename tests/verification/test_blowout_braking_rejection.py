@@ -42,6 +42,12 @@ FL_SEED3 = {"speed": 119.98424226281585, "mu": 0.3551565873975112, "delay": 0.27
             "brake.start_s": 0.8478226987765873, "brake.level_frac": 0.3908802232177515,
             "brake.rate_per_s": 28.13061500386974, "braking": "brakes", "wheel": "fl", "driver": "fixed",
             "curve": "r1000"}
+# falsifier random search seed 11, budget 512, on the braking-only part of the envelope (braking = brakes), point #219
+FL_SEED11 = {"speed": 111.03662190443559, "mu": 0.34607360245082186, "delay": 0.04467767430050759,
+             "wheel_speed_noise": 0.009833120167830056, "noise_seed": 751, "brake_gain": 0.748048606846051,
+             "brake.start_s": 0.9694710298450024, "brake.level_frac": 0.1653419260981332,
+             "brake.rate_per_s": 29.083997570533768, "braking": "brakes", "wheel": "fl", "driver": "fixed",
+             "curve": "r650"}
 
 
 @pytest.fixture(scope="module")
@@ -71,3 +77,11 @@ def test_fl_blowout_braking_rejection_still_guards(env):
     """The rejection keeps this braking FL point no worse than none (0.87 vs 1.26 m, with and without yaw_net_flag);
     holding the compensation through it gave 3.72 m."""
     assert _dev(env, FL_SEED3) < _dev(env, FL_SEED3, baseline=True)
+
+
+def test_fl_blowout_braking_saturated_opposite_still_rejected(env):
+    """Second guard, for the linear-region condition of yaw_net_flag: FL at 111 km/h on mu 0.35, steering held in a
+    650 m curve, the driver brakes from t_b - 31 ms; the opposite front runs at 8-10 % slip (past its linear region),
+    the car yaws away 5 deg/s and runs wide. Rejected (raw yaw) 0.75 m vs 2.98 m without compensation; netting the
+    release out there (commit 8822170, no linear-region condition) held the compensation: 4.35 m."""
+    assert _dev(env, FL_SEED11) < _dev(env, FL_SEED11, baseline=True)
