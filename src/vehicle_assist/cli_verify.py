@@ -107,10 +107,11 @@ def falsify(
     batch: int = typer.Option(8, "--batch", "-b", help="points per batch (run on all cores)"),
     set_: Optional[List[str]] = typer.Option(None, "--set", "-s", help="fixed override for every point (repeatable), e.g. a seeded defect"),
     out: Path = typer.Option(Path("out/falsify"), "--out", "-o", help="output directory"),
-    keep_going: bool = typer.Option(False, "--keep-going", help="use the whole budget even after a violation"),
+    keep_going: bool = typer.Option(False, "--keep-going", help="use the whole budget even after a violation; "
+                                    "counterexample.toml is then the worst violation, and the log gives their count"),
     scheduler: Optional[str] = typer.Option(None, "--scheduler", help=SCHEDULER_HELP),
 ) -> None:
-    """Search the envelope for the input that minimises a requirement's robustness (stops at the first violation)."""
+    """Search the envelope for the input that minimises a requirement's robustness (stops at the first violation; --keep-going: the worst over the whole budget)."""
     from vehicle_assist.scenarios.errors import InputError
     from vehicle_assist.verification.falsify import OPTIMIZERS, run_falsification, write_falsification
 
@@ -133,9 +134,16 @@ def falsify(
         _write_failed(exc, out)
     best = result.best
     unit = result.requirement.unit
-    if result.counterexample is not None:
+    cex = result.counterexample
+    if cex is not None and keep_going:
+        n = len(result.violations)
+        console.print(f"[red]{n} violation{'s' if n != 1 else ''}[/], worst after {cex.index + 1}: robustness "
+                      f"{_num(cex.robustness)} {escape(unit)} (first after {result.evaluations_to_first} of "
+                      f"{len(result.evaluations)} evaluations)\n  {escape(result.envelope.point_name(cex.point))}")
+        console.print(f"reproduce it: vehicle-assist run {paths['scenario']}", markup=False)
+    elif cex is not None:
         console.print(f"[red]counterexample[/] after {result.evaluations_to_first} evaluations: robustness "
-                      f"{_num(result.counterexample.robustness)} {escape(unit)}\n  {escape(result.envelope.point_name(result.counterexample.point))}")
+                      f"{_num(cex.robustness)} {escape(unit)}\n  {escape(result.envelope.point_name(cex.point))}")
         console.print(f"reproduce it: vehicle-assist run {paths['scenario']}", markup=False)
     else:
         console.print(f"[green]no counterexample[/] in {len(result.evaluations)} evaluations; minimum robustness "

@@ -12,7 +12,10 @@ equal cells (the optimiser sees a piecewise-constant coordinate). Optimisers:
 Each batch of candidates runs on all cores (:func:`simulate_batch`, keeping only the channels the
 formula reads); the robustness is evaluated by rtamt (``verification.requirements``). A comparative
 requirement runs each point together with its no-assist twin. The search stops at the first point with
-robustness < 0 (a counterexample) or at the budget; it is deterministic for a given seed.
+robustness < 0 (a counterexample) or at the budget; it is deterministic for a given seed. With
+``stop_at_violation=False`` (CLI ``--keep-going``) it uses the whole budget and the counterexample it
+reports and writes is the WORST violation (minimum robustness, the earliest on a tie), not the first;
+the number of violations and each one's index and robustness are in ``falsify.json``.
 """
 from __future__ import annotations
 
@@ -57,6 +60,7 @@ class FalsifyResult:
     sets: list[str]
     evaluations: list[Evaluation]
     wall_s: float
+    stop_at_violation: bool = True
 
     @property
     def best(self) -> Evaluation:
@@ -64,15 +68,30 @@ class FalsifyResult:
         return min(finite or self.evaluations, key=lambda e: e.robustness)
 
     @property
+    def violations(self) -> list[Evaluation]:
+        """Every evaluation with robustness < 0, in search order (NaN never counts)."""
+        return [e for e in self.evaluations if e.robustness < 0]
+
+    @property
+    def first_counterexample(self) -> Evaluation | None:
+        v = self.violations
+        return v[0] if v else None
+
+    @property
+    def worst_counterexample(self) -> Evaluation | None:
+        """The violation with the minimum robustness (the earliest of equal ones): the one to debug first."""
+        v = self.violations
+        return min(v, key=lambda e: e.robustness) if v else None
+
+    @property
     def counterexample(self) -> Evaluation | None:
-        for e in self.evaluations:
-            if e.robustness < 0:
-                return e
-        return None
+        """The counterexample this search reports and writes: the first violation when it stops at one, the
+        worst when it kept going over the whole budget (--keep-going)."""
+        return self.first_counterexample if self.stop_at_violation else self.worst_counterexample
 
     @property
     def evaluations_to_first(self) -> int | None:
-        c = self.counterexample
+        c = self.first_counterexample
         return None if c is None else c.index + 1
 
 
@@ -199,7 +218,8 @@ def run_falsification(envelope: str | Envelope, requirement: str | Requirement, 
     finally:
         if bar is not None:
             bar.stop()
-    return FalsifyResult(env, req, optimizer, seed, budget, list(sets or []), evals, time.perf_counter() - t0)
+    return FalsifyResult(env, req, optimizer, seed, budget, list(sets or []), evals, time.perf_counter() - t0,
+                         stop_at_violation=stop_at_violation)
 
 
 # ------------------------------------------------------------------------------------------- outputs
@@ -208,8 +228,10 @@ def counterexample_document(result: FalsifyResult, ev: Evaluation) -> dict:
     sc = result.envelope.scenario(ev.point)
     raw = {k: v for k, v in sc.raw.items() if k not in ("checks", "requirements")}
     raw["name"] = f"cex_{result.envelope.model.name}_{result.requirement.id.split('.')[-1]}"
+    which = ("" if result.stop_at_violation
+             else f", the worst of {len(result.violations)} violations in {len(result.evaluations)} evaluations")
     raw["description"] = (f"counterexample of {result.requirement.id} found by vehicle-assist falsify "
-                          f"({result.optimizer}, seed {result.seed}, evaluation {ev.index + 1}): robustness "
+                          f"({result.optimizer}, seed {result.seed}, evaluation {ev.index + 1}{which}): robustness "
                           f"{ev.robustness:.6g} {result.requirement.unit}")
     raw["source"] = (f"envelope {result.envelope.model.name} point: {result.envelope.point_name(ev.point)}"
                      + (f"; fixed overrides: {'; '.join(result.sets)}" if result.sets else ""))
@@ -218,29 +240,44 @@ def counterexample_document(result: FalsifyResult, ev: Evaluation) -> dict:
     return raw
 
 
+COUNTEREXAMPLE_FILES = ("counterexample.toml", "counterexample_trace.parquet", "counterexample.png")
+
+
 def write_falsification(result: FalsifyResult, out: Path) -> dict[str, Path]:
-    """falsify.json (settings, best, counterexample, every evaluation) and, for a counterexample, a
-    standalone scenario ``counterexample.toml`` with its trace and overview plot."""
+    """falsify.json (settings, best, counterexample, the violations, every evaluation) and, for a
+    counterexample (the first violation, or the worst one when the search kept going), a standalone scenario
+    ``counterexample.toml`` with its trace and overview plot. Every file is written atomically; the
+    counterexample files of an earlier search in the same directory are removed first, so a directory never
+    pairs this search's falsify.json with another search's counterexample."""
     import tomli_w
 
     from vehicle_assist.io.results import atomic_write_text, write_json, write_trace_parquet
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    for name in COUNTEREXAMPLE_FILES:
+        (out / name).unlink(missing_ok=True)
     paths: dict[str, Path] = {}
     cex = result.counterexample
+    first = result.first_counterexample
     summary = {
         "envelope": result.envelope.model.name, "requirement": result.requirement.as_dict(),
         "optimizer": result.optimizer, "seed": result.seed, "budget": result.budget, "sets": result.sets,
+        "stop_at_violation": result.stop_at_violation,
         "evaluations": len(result.evaluations), "wall_s": result.wall_s,
         "evaluations_to_first_counterexample": result.evaluations_to_first,
         "min_robustness": result.best.robustness, "best_point": result.best.point,
-        "counterexample": None if cex is None else {"point": cex.point, "robustness": cex.robustness,
-                                                     "metrics": cex.metrics, "baseline_metrics": cex.baseline_metrics},
+        "violation_count": len(result.violations),
+        "violations": [{"index": e.index, "robustness": e.robustness} for e in result.violations],
+        "first_counterexample": None if first is None else {"index": first.index, "robustness": first.robustness},
+        "counterexample": None if cex is None else {
+            "selected": "first" if result.stop_at_violation else "worst", "index": cex.index,
+            "point": cex.point, "robustness": cex.robustness,
+            "metrics": cex.metrics, "baseline_metrics": cex.baseline_metrics},
         "history": [{"index": e.index, "robustness": e.robustness, "point": e.point, **e.metrics} for e in result.evaluations],
     }
     paths["summary"] = write_json(summary, out / "falsify.json")
-    target = cex if cex is not None else None
+    target = cex
     if target is not None:
         from vehicle_assist.report.plots import overview_png
         from vehicle_assist.scenarios.loader import load_scenario
