@@ -1085,7 +1085,8 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
       already exceeds it; the share taken open-loop yawed a wet-curve car 1.1 m outward). After an ABS dump it
       re-builds (functions/esp.py) to no more than its pressure at the dump's start (S_P_PREDUMP, ABS's lock
       level), not to the plan's lowered no-brake target (a noise-triggered dump held RF at ~7 bar for 1.5 s while
-      the rears took the driver's 30-40 bar).
+      the rears took the driver's 30-40 bar); that ceiling ends when ABS lets the wheel go (build_idle, no hold or
+      dump for abs_idle_time_s: no lock level is known any more).
     * rear pair (b_r*(F_rl - F_rr)): one cap for both (the lower of the two, as the ESP's select-low, so the pair adds
       no moment): the Dugoff linear-region force with its half of the rear lateral force at the measured friction
       (``wheel_linear_limit_mu``, the f(H) >= 1 - s boundary of ``rear_linear_limit`` for an intact rear axle): with

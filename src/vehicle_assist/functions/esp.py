@@ -317,6 +317,12 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         if (new == abs_fn.DUMP and mode != abs_fn.DUMP and i == comp_wheel
                 and p.blowout_compensation_braking_rule_flag > 0.5):
             bst[bc.S_P_PREDUMP] = wheels[i, A_P_EST]  # braking rule: the re-build after this dump goes back to here
+        elif (new == abs_fn.OFF and mode != abs_fn.OFF and i == comp_wheel
+              and p.blowout_compensation_braking_rule_flag > 0.5):
+            # ABS let the wheel go (build_idle: no hold/dump for abs_idle_time_s), so the dump's pressure is no lock
+            # level any more (a noise-triggered dump during the build had capped the wheel there for the rest of the
+            # stop: FL straight 114 km/h mu 0.5, 363 N, FR held at 15 bar at 2 % slip, 6.04 m vs none 5.73 m)
+            bst[bc.S_P_PREDUMP] = -1.0
         if new != mode:
             if wheels[i, A_LOGGED] < ABS_LOG_CAP:
                 n_events = log_event(events, n_events, t, m_abs0 + i, mode, new, reason)
