@@ -86,7 +86,8 @@ mu alone this limit made two low-friction points worse than none in round 2, the
 guards them; round 2 used the H = 1 boundary) while it carries its
 share of the rear axle's lateral force for the steered path (by cornering stiffness, the flat tire k_Cy),
 ``rear_linear_limit``: the planned added pressure is capped at that force, and every period a
-measured slip above the matching slip dumps the added pressure (never below the driver's) and lowers the held
+measured slip above the matching slip dumps the added pressure (never below the driver's current pressure at
+the wheel: the measured master pressure through the proportioning valve) and lowers the held
 target. A rear wheel braked into saturation (12-18 % slip, below ABS's 20 %) left the axle with
 the flat tire without lateral force and the car spun toward the blown side. Front targets are not limited by it
 (less front lateral force is understeer, which does not spin the car).
