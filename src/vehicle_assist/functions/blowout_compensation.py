@@ -87,7 +87,8 @@ mu alone this limit made two low-friction points worse than none in round 2, the
 guards them; round 2 used the H = 1 boundary) while it carries its
 share of the rear axle's lateral force for the steered path (by cornering stiffness, the flat tire k_Cy),
 ``rear_linear_limit``: the planned added pressure is capped at that force, and every period a
-measured slip above the matching slip dumps the added pressure (never below the driver's) and lowers the held
+measured slip above the matching slip dumps the added pressure (never below the driver's current pressure at
+the wheel: the measured master pressure through the proportioning valve) and lowers the held
 target. A rear wheel braked into saturation (12-18 % slip, below ABS's 20 %) left the axle with
 the flat tire without lateral force and the car spun toward the blown side. Front targets are not limited by it
 (less front lateral force is understeer, which does not spin the car).
@@ -135,6 +136,7 @@ import numba as nb
 import numpy as np
 
 from vehicle_assist.core.fsm import StateMachine, Transition, log_event
+from vehicle_assist.plant.brakes.master_cylinder import proportioned_pa
 from vehicle_assist.plant.tires.blowout import OPPOSITE, redistributed_loads, transfer_n
 
 IDLE, BUILD, HOLD, LIMITED, REJECTED, ENDED, REFUSED = range(7)
@@ -1019,6 +1021,15 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             # below ABS's 20 % threshold, 16.6 m vs 5.1 m without compensation)
             _, cap = rear_linear_limit(tg, st[S_FZ_TARGET], a_y_ref, p)
             st[S_SLIP_CAP] = cap
+            # the floor: the driver's CURRENT pressure at this wheel (the measured master pressure through the
+            # proportioning valve, as the ESP passes it on; ABS guards it), not the pressure at detection S_P_START
+            # (0 when the pedal comes after the detection: the limit then dumped every later driver's pressure on the
+            # wheel and, with the flat wheel released, left the rear axle unbraked - F2 CMA 2026 #46, RR 83.5 km/h:
+            # 3.26 m vs 2.97 m without compensation)
+            p_floor = st[S_P_START]
+            if braking > 0.5:
+                p_floor = max(p_floor, proportioned_pa(max(p_mc, 0.0), p.master_cylinder_proportioning_knee_pa,
+                                                       p.master_cylinder_proportioning_slope_frac))
             if p.blowout_compensation_signal_filter_flag > 0.5:
                 # filtered slip (moving mean, v_ref from the same window), persistence, hysteresis (signal_filter_flag;
                 # raw samples with 0.1 rad/s wheel-speed noise dumped and latched the target on one sample: RR 60 km/h
@@ -1045,7 +1056,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                     st[S_P_REQ] = max(min(st[S_P_REQ], p_cap), st[S_P_START])
                     st[S_SLIP_HIGH_S] = -WS_WINDOW_N * dt
                 if st[S_SLIP_LIMITED] > 0.5:
-                    if p_est[tg] > st[S_P_REQ] + 1.0e5:
+                    if p_est[tg] > max(st[S_P_REQ], p_floor) + 1.0e5:
                         requests[tg] = Q_RELEASE
                     elif mode == BUILD:
                         requests[tg] = Q_HOLD  # once limited, the build does not start again
@@ -1056,7 +1067,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             if over:
                 st[S_SLIP_LIMITED] = 1.0
                 st[S_P_REQ] = max(min(st[S_P_REQ], p_est[tg]), st[S_P_START])
-                requests[tg] = Q_RELEASE if p_est[tg] > st[S_P_START] + 1.0e5 else Q_HOLD
+                requests[tg] = Q_RELEASE if p_est[tg] > p_floor + 1.0e5 else Q_HOLD
             elif mode == BUILD and st[S_SLIP_LIMITED] > 0.5:
                 requests[tg] = Q_HOLD  # once limited, the build does not start again: hold at the lowered target
         if p.blowout_compensation_tire_capacity_flag > 0.5 and st[S_LIMIT_CODE] != LIMIT_SPIN_FRONT:
