@@ -80,6 +80,10 @@ dumped while the car turns back away from the blown side faster than the ESP's y
 spin lasts (the ESP's GMA does not delay it, functions/esp.py). Front blowouts and rotation away from the blown side:
 refused as before. Rear spin points (RL 101.9 / 110.7 km/h, 650 m): 18.84 / 21.73 m with the refusal, 7.72 / 6.78 m
 with the rule, none 18.17 / 20.72 m (docs/functions/tire_blowout.md).
+Its trigger also reads the friction-free sideslip phase plane (``phase_plane_unstable``, ``phase_plane_flag``, 0 = seeded
+defect = the mu-0.8 bounds alone): |beta_dot + B1*beta| > B2 (Inagaki et al. 1994, dry road), beta_dot = a_y/u - r
+measured - on mu 0.48 the mu-0.8 yaw bound was crossed only late in the slide (random 7 #7: 3.39 s, 17.33 m vs none
+15.94; with it 2.36 s, 13.33 m). The refusal keeps the mu-0.8 bounds.
 Rear compensating wheel (``slip_limit_flag``, 0 = seeded defect; falsification of issue #10): its brake force is
 kept below the slip where braking starts to cut its lateral force (Dugoff f(H) >= 1 - s; round 3 - with the nominal
 mu alone this limit made two low-friction points worse than none in round 2, the measured tire capacity below now
