@@ -165,8 +165,13 @@ MACHINE = StateMachine("blowout_compensation", MODES, (
     Transition("HOLD", "LIMITED", "beyond_stable_region", "as from BUILD"),
     Transition("IDLE", "LIMITED", "beyond_stable_region", "as from BUILD, the car already beyond at the detection"),
     Transition("REJECTED", "LIMITED", "beyond_stable_region", "as from IDLE"),
+    Transition("BUILD", "REJECTED", "signature_unconfirmed", "TPMS-path detection while braking (tpms_confirm_flag): the "
+               "released wheel rolls at the car's speed without spinning up (a released flat wheel spins up to ~50 % "
+               "over-speed): a healthy wheel, false TPMS alarm - release, latch cleared, as yaw_implausible"),
+    Transition("HOLD", "REJECTED", "signature_unconfirmed", "as from BUILD"),
+    Transition("LIMITED", "REJECTED", "signature_unconfirmed", "as from BUILD"),
 ))
-G_DETECTED, G_STUCK, G_VALVE_DONE, G_YAW_IMPLAUSIBLE, G_SLOW, G_CLEARED, G_UNSTABLE = range(7)
+G_DETECTED, G_STUCK, G_VALVE_DONE, G_YAW_IMPLAUSIBLE, G_SLOW, G_CLEARED, G_UNSTABLE, G_UNCONFIRMED = range(8)
 REASONS = MACHINE.guards
 # per-wheel requests to the ESP arbitration
 Q_NONE, Q_BUILD, Q_HOLD, Q_RELEASE, Q_PULSE = range(5)
@@ -195,7 +200,10 @@ S_P_BRAKE = S_OVERSPEED_S + 1
 S_MU_MEAS = S_P_BRAKE + 1
 S_REAR_CAP = S_MU_MEAS + 1
 S_P_PREDUMP = S_REAR_CAP + 1
-STATE_SIZE = S_P_PREDUMP + 1
+# TPMS-path confirmation (``tpms_confirm_flag``): how long the released wheel of a TPMS-only detection made while braking
+# has rolled at the car's speed without spinning up [s]; -1 = not pending (no such detection, or confirmed by over-speed)
+S_HEALTHY_S = S_P_PREDUMP + 1
+STATE_SIZE = S_HEALTHY_S + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -221,6 +229,12 @@ CAP_FORCE_RATIO = 0.8  # assumed: measured F_x below 0.8*C_x*s/(1 - s) (Dugoff f
 #   is not evidence of a saturating tire (the paper's own test runs its front wheel at 0.83 on the cement road)
 CAP_MIN_SLIP = 0.01  # assumed: below 1 % the wheel-speed slip is within the wheel-radius/cornering spread of the wheels
 CAP_PERSIST_S = 0.02  # assumed: 4 ESP periods of 5 ms below the ratio before latching (debounce of a derivative signal)
+# TPMS-path confirmation (tpms_confirm_flag, ``released_wheel_healthy``)
+SPINUP_MARGIN_MPS2 = 10.0  # derived: a released flat wheel spins up at F_x*R_in*R_out/J; even a flat tire carrying only
+#   140 N of road force (R_in 0.24 m, R_out 0.359 m, J 1.2 kg*m^2, suv_bj2500) gives 10 m/s^2 above the car's a_x, while the
+#   filtered slope's noise is 3.3 m/s^2 (1 sigma) at the envelope's 0.3 rad/s wheel-speed noise (WS_WINDOW_N note); the
+#   measured flat wheels spin up at 40-50 m/s^2 (RL 119 km/h mu 0.49: 46 m/s^2 at 640 N)
+HEALTHY_PERSIST_S = 0.02  # assumed: 4 ESP periods, as CAP_PERSIST_S
 
 
 def initial_state() -> np.ndarray:
@@ -234,6 +248,7 @@ def initial_state() -> np.ndarray:
     st[S_P_BRAKE] = -1.0
     st[S_REAR_CAP] = -1.0
     st[S_P_PREDUMP] = -1.0
+    st[S_HEALTHY_S] = -1.0
     return st
 
 
@@ -613,6 +628,28 @@ def own_yaw_step(st, m_z_nm, speed_mps, dt, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def released_wheel_healthy(st, b, v_ref, a_x, dt, p):
+    """TPMS-path confirmation (``tpms_confirm_flag``, 0 = seeded defect = no confirmation): a TPMS-only detection made
+    while the driver brakes releases the named wheel b. A flat wheel, once free of the brake, is driven up by its road
+    force toward its own free-rolling speed, (R_out/R_in - 1) ~ 50 % above the car's: it over-speeds (the wheel-speed
+    signature, threshold wheel_speed_threshold_frac) or at least spins up faster than the car decelerates. A healthy
+    wheel rolls at the car's speed and decelerates with it. Returns True (not confirmed: a false TPMS alarm) once b's
+    filtered speed has stayed within the threshold band around v_ref with its filtered acceleration at most
+    a_x + SPINUP_MARGIN_MPS2 for HEALTHY_PERSIST_S; over-speed above the band confirms the detection for good
+    (S_HEALTHY_S = -1, no further check)."""
+    thr = p.blowout_compensation_wheel_speed_threshold_frac
+    v_b = wheel_speed_mean(st, b)
+    if v_b > v_ref * (1.0 + thr):
+        st[S_HEALTHY_S] = -1.0  # the blowout's over-speed: confirmed
+        return False
+    if abs(v_b - v_ref) <= thr * v_ref and wheel_accel_mps2(st, b, dt) <= a_x + SPINUP_MARGIN_MPS2:
+        st[S_HEALTHY_S] += dt
+    else:
+        st[S_HEALTHY_S] = 0.0
+    return st[S_HEALTHY_S] >= HEALTHY_PERSIST_S - 1e-9
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def stability_bounds(mu, speed_mps):
     """(yaw-rate bound [rad/s], sideslip bound [rad]) of the stable region (Rajamani, Vehicle Dynamics and Control,
     2nd ed. 2012, ch. 8 yaw control - the bounds widely used in ESP literature): |r| <= 0.85*mu*g/u (the yaw rate
@@ -885,6 +922,9 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_BETA_OWN] = 0.0  # the model of the function's own yaw moment starts at the detection (yaw_net_flag)
             st[S_R_OWN] = 0.0
             st[S_OVERSPEED_S] = 0.0
+            # TPMS path (single source, braking): confirmation by the released wheel pending (tpms_confirm_flag)
+            st[S_HEALTHY_S] = 0.0 if (sources == SRC_TPMS and braking > 0.5
+                                      and p.blowout_compensation_tpms_confirm_flag > 0.5) else -1.0
             code = unstable_code(yaw_rate_meas, 0.0, v_ref, p)
             if code != LIMIT_NONE and new == BUILD and spin_front_applies(b, target, yaw_rate_meas, inlet_ok, p):
                 # already beyond the stable region rotating toward the blown side (rear blowout): the front wheel of the
@@ -931,6 +971,9 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             if st[S_OVERSPEED_S] >= p.blowout_compensation_detection_delay_s - 1e-9 and _opposite_linear(st, b, v_ref,
                                                                                                           a_x, p):
                 judged = toward + max(-r_own, 0.0)
+        unconfirmed = False
+        if st[S_HEALTHY_S] > -0.5:
+            unconfirmed = released_wheel_healthy(st, b, v_ref, a_x, dt, p)
         if v_ref > 1.0:
             st[S_BETA_EST] += (a_y_meas / v_ref - yaw_rate_meas) * dt  # beta_dot = a_y/u - r (kinematic)
         code = unstable_code(yaw_rate_meas, st[S_BETA_EST], v_ref, p)
@@ -941,8 +984,11 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             _plan(st, b, sub, True, st[S_SLIP_EST], a_x, a_y_ref, p_est, p)
             n_events = log_event(events, n_events, t, machine_id, mode, LIMITED, G_STUCK)
             mode = LIMITED
-        elif single and judged < -p.blowout_compensation_abort_yaw_rate_radps:
-            n_events = log_event(events, n_events, t, machine_id, mode, REJECTED, G_YAW_IMPLAUSIBLE)
+        elif single and (judged < -p.blowout_compensation_abort_yaw_rate_radps or unconfirmed):
+            n_events = log_event(events, n_events, t, machine_id, mode, REJECTED,
+                                 G_YAW_IMPLAUSIBLE if judged < -p.blowout_compensation_abort_yaw_rate_radps
+                                 else G_UNCONFIRMED)
+            st[S_HEALTHY_S] = -1.0
             mode = REJECTED
             st[S_REJECTED] = b
             st[S_BLOWN] = -1.0  # latch cleared: no wheel is held released any more, ABS/HBA run as without the function
