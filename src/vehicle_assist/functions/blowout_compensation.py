@@ -203,7 +203,10 @@ S_P_PREDUMP = S_REAR_CAP + 1
 # TPMS-path confirmation (``tpms_confirm_flag``): how long the released wheel of a TPMS-only detection made while braking
 # has rolled at the car's speed without spinning up [s]; -1 = not pending (no such detection, or confirmed by over-speed)
 S_HEALTHY_S = S_P_PREDUMP + 1
-STATE_SIZE = S_HEALTHY_S + 1
+# re-apply after a rejection while braking (``reject_reapply_flag``): the wheel the rejected detection had released, to be
+# given the driver's pressure back at once up to the same-axle wheel's pressure (functions/esp.py); -1 none
+S_REAPPLY = S_HEALTHY_S + 1
+STATE_SIZE = S_REAPPLY + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -249,6 +252,7 @@ def initial_state() -> np.ndarray:
     st[S_REAR_CAP] = -1.0
     st[S_P_PREDUMP] = -1.0
     st[S_HEALTHY_S] = -1.0
+    st[S_REAPPLY] = -1.0
     return st
 
 
@@ -922,6 +926,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_BETA_OWN] = 0.0  # the model of the function's own yaw moment starts at the detection (yaw_net_flag)
             st[S_R_OWN] = 0.0
             st[S_OVERSPEED_S] = 0.0
+            st[S_REAPPLY] = -1.0
             # TPMS path (single source, braking): confirmation by the released wheel pending (tpms_confirm_flag)
             st[S_HEALTHY_S] = 0.0 if (sources == SRC_TPMS and braking > 0.5
                                       and p.blowout_compensation_tpms_confirm_flag > 0.5) else -1.0
@@ -989,6 +994,10 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                                  G_YAW_IMPLAUSIBLE if judged < -p.blowout_compensation_abort_yaw_rate_radps
                                  else G_UNCONFIRMED)
             st[S_HEALTHY_S] = -1.0
+            # the released wheel back to the driver at once (reject_reapply_flag; functions/esp.py): ABS's pulsed re-build
+            # from the released level (55 -> 10 bar at a 500 N pedal) took 0.3 s on a front wheel, and the rear select-
+            # low held a released rear at 3-9 bar for > 1 s, each with the other wheel of the axle at the lock level
+            st[S_REAPPLY] = b if (braking > 0.5 and p.blowout_compensation_reject_reapply_flag > 0.5) else -1.0
             mode = REJECTED
             st[S_REJECTED] = b
             st[S_BLOWN] = -1.0  # latch cleared: no wheel is held released any more, ABS/HBA run as without the function

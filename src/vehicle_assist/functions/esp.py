@@ -527,6 +527,15 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                 # check valve would drain it into the master cylinder (plant/brakes/esp_unit.py), so hold it with
                 # the circuit isolated (HI) - what H/BPM did before the check valve was modelled (issue #9 review)
                 wm = W_HI
+        if abs_ok and int(bst[bc.S_REAPPLY]) == i and blow_req[i] == bc.Q_NONE:
+            # blowout compensation rejected its detection while the driver brakes (reject_reapply_flag): the wheel it had
+            # released is built at once (inlet open, the unit's build: the ECU models its rise, W_N's estimate would jump
+            # to the driver's pressure in one period) up to the pressure the other wheel of its axle carries (the
+            # driver's, as ABS lets it through), as without the function; an ABS dump or hold of it ends this
+            if wm == W_D or wheels[i, A_P_EST] >= wheels[bc.OPPOSITE[i], A_P_EST] - 1.0e5:
+                bst[bc.S_REAPPLY] = -1.0
+            else:
+                wm = W_B
         wheels[i, A_WHEEL_MODE] = wm
         src = p_mc if i < 2 else _prop(p_mc, p)
         wheels[i, A_P_EST] = _estimate(wm, wheels[i, A_P_EST], src, dt, p, wheels[i, A_INLET_OPEN_S])
