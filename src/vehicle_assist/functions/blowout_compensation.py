@@ -206,7 +206,8 @@ S_HEALTHY_S = S_P_PREDUMP + 1
 # re-apply after a rejection while braking (``reject_reapply_flag``): the wheel the rejected detection had released, to be
 # given the driver's pressure back at once up to the same-axle wheel's pressure (functions/esp.py); -1 none
 S_REAPPLY = S_HEALTHY_S + 1
-STATE_SIZE = S_REAPPLY + 1
+S_REAPPLY_P = S_REAPPLY + 1  # the ECU's line model of that wheel's pressure during the re-apply [Pa] (-1 = not started)
+STATE_SIZE = S_REAPPLY_P + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -998,6 +999,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             # from the released level (55 -> 10 bar at a 500 N pedal) took 0.3 s on a front wheel, and the rear select-
             # low held a released rear at 3-9 bar for > 1 s, each with the other wheel of the axle at the lock level
             st[S_REAPPLY] = b if (braking > 0.5 and p.blowout_compensation_reject_reapply_flag > 0.5) else -1.0
+            st[S_REAPPLY_P] = -1.0
             mode = REJECTED
             st[S_REJECTED] = b
             st[S_BLOWN] = -1.0  # latch cleared: no wheel is held released any more, ABS/HBA run as without the function
