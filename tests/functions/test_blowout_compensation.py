@@ -349,11 +349,14 @@ TPMS_BRAKING = dict(tpms=1.0, braking=1.0, a_x=0.0)  # a TPMS alarm on LF while 
 
 def test_rows_tpms_path_unconfirmed_by_a_healthy_released_wheel(params):
     """tpms_confirm_flag: a TPMS-path detection (single source, braking) whose released wheel then rolls at the car's
-    speed (all four wheels at V, no spin-up, no yaw) is rejected within 20 ms of evidence + the 50 ms detection delay -
+    speed (all four wheels at V, no spin-up, no yaw, its pressure estimate at 0) is rejected after 60 ms of that evidence
+(a 40 ms filter window + 20 ms) + the 50 ms detection delay; a wheel still at 3 bar is not free of the brake: no verdict -
     from BUILD, from HOLD (the wheel braked below the band until the valve time elapsed) and from LIMITED (opposite
     inlet stuck); with the flag 0 (seeded defect) it is held for good."""
-    e = Ecu(params).run(0.2).run(0.1, **TPMS_BRAKING)
+    slow_valve = dict(blowout_compensation_valve_dead_time_s=0.3)  # BUILD lasts >= 0.3 s
+    e = Ecu(params, **slow_valve).run(0.2).run(0.15, **TPMS_BRAKING)
     assert e.rows == [("IDLE", "BUILD", "blowout_detected"), ("BUILD", "REJECTED", "signature_unconfirmed")]
+    assert Ecu(params, **slow_valve).run(0.2).run(0.15, p_est=(3e5, 0, 0, 0), **TPMS_BRAKING).mode == "BUILD"  # not free
     assert int(e.st[bc.S_BLOWN]) == -1 and e.req[0] == bc.Q_NONE  # latch cleared: LF the driver's again
     h = Ecu(params).run(0.2).run(0.5, vw=(0.5 * V, V, V, V), **TPMS_BRAKING)
     assert h.mode == "HOLD"

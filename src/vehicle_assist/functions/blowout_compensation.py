@@ -59,6 +59,16 @@ while the same-axle braked wheel is in its linear region (``_opposite_linear``; 
 a real blowout is not rejected for the yaw the release makes (RL 119 km/h, pedal at t_b - 15 ms: 1.39 -> 0.64 m, none
 1.19 m). The compensation pressure stays in the judged yaw: it balances a real blowout's moment and is the unbalanced
 moment of a false detection.
+BUILD/HOLD/LIMITED -> REJECTED (signature_unconfirmed; ``tpms_confirm_flag``, 0 = seeded defect; findings_F.md P,
+session 2026-11-24 e): a TPMS-path detection (TPMS only, driver braking) is confirmed by the released wheel - a flat wheel
+freed of the brake spins up toward its free-rolling speed ~50 % above the car's, a healthy one rolls at the car's speed.
+Its filtered speed within ``wheel_speed_threshold_frac`` of v_ref with its filtered acceleration below a_x +
+SPINUP_MARGIN_MPS2, its pressure down (free of the brake), for HEALTHY_PERSIST_S (``released_wheel_healthy``) rejects it as a false alarm (as yaw_implausible);
+over-speed confirms it for good. A false RL alarm under an 80 N pedal was never rejected by the yaw (RR's counter-brake
+held under the rear slip limit): 1.76 / 2.55 m at 100 / 120 km/h -> 0.015 / 0.020 m (the function off: 0.00 m).
+After a rejection while braking the released wheel gets the driver's pressure back at once (``reject_reapply_flag``,
+S_REAPPLY, functions/esp.py) up to the same-axle wheel's pressure: ABS had re-built it in pulses (front) or the rear
+select-low held it low (false FL / RL alarm under 500 N at 100 km/h: 1.33 / 2.57 -> 0.54 / 0.87 m).
 REJECTED -> IDLE (signature_cleared): no candidate on the rejected wheel for ``detection_delay_s``.
 REJECTED -> BUILD / LIMITED: a blowout found on another wheel (same guards as from IDLE).
 HOLD/LIMITED -> ENDED (vehicle_slow): reference speed below the minimum speed: compensation over; a real blown
@@ -238,7 +248,12 @@ SPINUP_MARGIN_MPS2 = 10.0  # derived: a released flat wheel spins up at F_x*R_in
 #   140 N of road force (R_in 0.24 m, R_out 0.359 m, J 1.2 kg*m^2, suv_bj2500) gives 10 m/s^2 above the car's a_x, while the
 #   filtered slope's noise is 3.3 m/s^2 (1 sigma) at the envelope's 0.3 rad/s wheel-speed noise (WS_WINDOW_N note); the
 #   measured flat wheels spin up at 40-50 m/s^2 (RL 119 km/h mu 0.49: 46 m/s^2 at 640 N)
-HEALTHY_PERSIST_S = 0.02  # assumed: 4 ESP periods, as CAP_PERSIST_S
+HEALTHY_PERSIST_S = 0.02 + WS_WINDOW_N * 0.005  # assumed: 4 ESP periods (as CAP_PERSIST_S) after a whole filter window
+#   (WS_WINDOW_N ESP periods of 5 ms) of samples taken with the wheel free of the brake: a flat rear wheel under a light
+#   pedal rolls at ~v_ref while still braked (its own slip ~1/3) and starts to spin up only once its pressure is down
+#   (CMA-ES seed 2026 #2/#11: RL/RR blowouts rejected 15-20 ms after the detection while the pressure still fell)
+RELEASED_MARGIN_PA = 1.0e5  # assumed: the released wheel counts as free of the brake below the unit's low-pressure
+#   accumulator level + 1 bar (ECU pressure estimate; ~1 bar is < 4 % of a light pedal's rear pressure)
 
 
 def initial_state() -> np.ndarray:
@@ -633,21 +648,23 @@ def own_yaw_step(st, m_z_nm, speed_mps, dt, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def released_wheel_healthy(st, b, v_ref, a_x, dt, p):
+def released_wheel_healthy(st, b, v_ref, a_x, p_est, dt, p):
     """TPMS-path confirmation (``tpms_confirm_flag``, 0 = seeded defect = no confirmation): a TPMS-only detection made
     while the driver brakes releases the named wheel b. A flat wheel, once free of the brake, is driven up by its road
     force toward its own free-rolling speed, (R_out/R_in - 1) ~ 50 % above the car's: it over-speeds (the wheel-speed
     signature, threshold wheel_speed_threshold_frac) or at least spins up faster than the car decelerates. A healthy
     wheel rolls at the car's speed and decelerates with it. Returns True (not confirmed: a false TPMS alarm) once b's
     filtered speed has stayed within the threshold band around v_ref with its filtered acceleration at most
-    a_x + SPINUP_MARGIN_MPS2 for HEALTHY_PERSIST_S; over-speed above the band confirms the detection for good
+    a_x + SPINUP_MARGIN_MPS2, with its pressure estimate down to the release level (free of the brake), for
+    HEALTHY_PERSIST_S; over-speed above the band confirms the detection for good
     (S_HEALTHY_S = -1, no further check)."""
     thr = p.blowout_compensation_wheel_speed_threshold_frac
     v_b = wheel_speed_mean(st, b)
     if v_b > v_ref * (1.0 + thr):
         st[S_HEALTHY_S] = -1.0  # the blowout's over-speed: confirmed
         return False
-    if abs(v_b - v_ref) <= thr * v_ref and wheel_accel_mps2(st, b, dt) <= a_x + SPINUP_MARGIN_MPS2:
+    free = p_est[b] <= p.esp_unit_lpa_pressure_pa + RELEASED_MARGIN_PA
+    if free and abs(v_b - v_ref) <= thr * v_ref and wheel_accel_mps2(st, b, dt) <= a_x + SPINUP_MARGIN_MPS2:
         st[S_HEALTHY_S] += dt
     else:
         st[S_HEALTHY_S] = 0.0
@@ -979,7 +996,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                 judged = toward + max(-r_own, 0.0)
         unconfirmed = False
         if st[S_HEALTHY_S] > -0.5:
-            unconfirmed = released_wheel_healthy(st, b, v_ref, a_x, dt, p)
+            unconfirmed = released_wheel_healthy(st, b, v_ref, a_x, p_est, dt, p)
         if v_ref > 1.0:
             st[S_BETA_EST] += (a_y_meas / v_ref - yaw_rate_meas) * dt  # beta_dot = a_y/u - r (kinematic)
         code = unstable_code(yaw_rate_meas, st[S_BETA_EST], v_ref, p)
