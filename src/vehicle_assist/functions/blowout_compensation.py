@@ -59,6 +59,16 @@ while the same-axle braked wheel is in its linear region (``_opposite_linear``; 
 a real blowout is not rejected for the yaw the release makes (RL 119 km/h, pedal at t_b - 15 ms: 1.39 -> 0.64 m, none
 1.19 m). The compensation pressure stays in the judged yaw: it balances a real blowout's moment and is the unbalanced
 moment of a false detection.
+BUILD/HOLD/LIMITED -> REJECTED (signature_unconfirmed; ``tpms_confirm_flag``, 0 = seeded defect; findings_F.md P,
+session 2026-11-24 e): a TPMS-path detection (TPMS only, driver braking) is confirmed by the released wheel - a flat wheel
+freed of the brake spins up toward its free-rolling speed ~50 % above the car's, a healthy one rolls at the car's speed.
+Its filtered speed within ``wheel_speed_threshold_frac`` of v_ref with its filtered acceleration below a_x +
+SPINUP_MARGIN_MPS2, its pressure down (free of the brake), for HEALTHY_PERSIST_S (``released_wheel_healthy``) rejects it as a false alarm (as yaw_implausible);
+over-speed confirms it for good. A false RL alarm under an 80 N pedal was never rejected by the yaw (RR's counter-brake
+held under the rear slip limit): 1.76 / 2.55 m at 100 / 120 km/h -> 0.015 / 0.020 m (the function off: 0.00 m).
+After a rejection while braking the released wheel gets the driver's pressure back at once (``reject_reapply_flag``,
+S_REAPPLY, functions/esp.py) up to the same-axle wheel's pressure: ABS had re-built it in pulses (front) or the rear
+select-low held it low (false FL / RL alarm under 500 N at 100 km/h: 1.33 / 2.57 -> 0.54 / 0.87 m).
 REJECTED -> IDLE (signature_cleared): no candidate on the rejected wheel for ``detection_delay_s``.
 REJECTED -> BUILD / LIMITED: a blowout found on another wheel (same guards as from IDLE).
 HOLD/LIMITED -> ENDED (vehicle_slow): reference speed below the minimum speed: compensation over; a real blown
@@ -171,8 +181,13 @@ MACHINE = StateMachine("blowout_compensation", MODES, (
     Transition("HOLD", "LIMITED", "beyond_stable_region", "as from BUILD"),
     Transition("IDLE", "LIMITED", "beyond_stable_region", "as from BUILD, the car already beyond at the detection"),
     Transition("REJECTED", "LIMITED", "beyond_stable_region", "as from IDLE"),
+    Transition("BUILD", "REJECTED", "signature_unconfirmed", "TPMS-path detection while braking (tpms_confirm_flag): the "
+               "released wheel rolls at the car's speed without spinning up (a released flat wheel spins up to ~50 % "
+               "over-speed): a healthy wheel, false TPMS alarm - release, latch cleared, as yaw_implausible"),
+    Transition("HOLD", "REJECTED", "signature_unconfirmed", "as from BUILD"),
+    Transition("LIMITED", "REJECTED", "signature_unconfirmed", "as from BUILD"),
 ))
-G_DETECTED, G_STUCK, G_VALVE_DONE, G_YAW_IMPLAUSIBLE, G_SLOW, G_CLEARED, G_UNSTABLE = range(7)
+G_DETECTED, G_STUCK, G_VALVE_DONE, G_YAW_IMPLAUSIBLE, G_SLOW, G_CLEARED, G_UNSTABLE, G_UNCONFIRMED = range(8)
 REASONS = MACHINE.guards
 # per-wheel requests to the ESP arbitration
 Q_NONE, Q_BUILD, Q_HOLD, Q_RELEASE, Q_PULSE = range(5)
@@ -201,7 +216,14 @@ S_P_BRAKE = S_OVERSPEED_S + 1
 S_MU_MEAS = S_P_BRAKE + 1
 S_REAR_CAP = S_MU_MEAS + 1
 S_P_PREDUMP = S_REAR_CAP + 1
-STATE_SIZE = S_P_PREDUMP + 1
+# TPMS-path confirmation (``tpms_confirm_flag``): how long the released wheel of a TPMS-only detection made while braking
+# has rolled at the car's speed without spinning up [s]; -1 = not pending (no such detection, or confirmed by over-speed)
+S_HEALTHY_S = S_P_PREDUMP + 1
+# re-apply after a rejection while braking (``reject_reapply_flag``): the wheel the rejected detection had released, to be
+# given the driver's pressure back at once up to the same-axle wheel's pressure (functions/esp.py); -1 none
+S_REAPPLY = S_HEALTHY_S + 1
+S_REAPPLY_P = S_REAPPLY + 1  # the ECU's line model of that wheel's pressure during the re-apply [Pa] (-1 = not started)
+STATE_SIZE = S_REAPPLY_P + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -227,6 +249,17 @@ CAP_FORCE_RATIO = 0.8  # assumed: measured F_x below 0.8*C_x*s/(1 - s) (Dugoff f
 #   is not evidence of a saturating tire (the paper's own test runs its front wheel at 0.83 on the cement road)
 CAP_MIN_SLIP = 0.01  # assumed: below 1 % the wheel-speed slip is within the wheel-radius/cornering spread of the wheels
 CAP_PERSIST_S = 0.02  # assumed: 4 ESP periods of 5 ms below the ratio before latching (debounce of a derivative signal)
+# TPMS-path confirmation (tpms_confirm_flag, ``released_wheel_healthy``)
+SPINUP_MARGIN_MPS2 = 10.0  # derived: a released flat wheel spins up at F_x*R_in*R_out/J; even a flat tire carrying only
+#   140 N of road force (R_in 0.24 m, R_out 0.359 m, J 1.2 kg*m^2, suv_bj2500) gives 10 m/s^2 above the car's a_x, while the
+#   filtered slope's noise is 3.3 m/s^2 (1 sigma) at the envelope's 0.3 rad/s wheel-speed noise (WS_WINDOW_N note); the
+#   measured flat wheels spin up at 40-50 m/s^2 (RL 119 km/h mu 0.49: 46 m/s^2 at 640 N)
+HEALTHY_PERSIST_S = 0.02 + WS_WINDOW_N * 0.005  # assumed: 4 ESP periods (as CAP_PERSIST_S) after a whole filter window
+#   (WS_WINDOW_N ESP periods of 5 ms) of samples taken with the wheel free of the brake: a flat rear wheel under a light
+#   pedal rolls at ~v_ref while still braked (its own slip ~1/3) and starts to spin up only once its pressure is down
+#   (CMA-ES seed 2026 #2/#11: RL/RR blowouts rejected 15-20 ms after the detection while the pressure still fell)
+RELEASED_MARGIN_PA = 1.0e5  # assumed: the released wheel counts as free of the brake below the unit's low-pressure
+#   accumulator level + 1 bar (ECU pressure estimate; ~1 bar is < 4 % of a light pedal's rear pressure)
 
 
 def initial_state() -> np.ndarray:
@@ -240,6 +273,8 @@ def initial_state() -> np.ndarray:
     st[S_P_BRAKE] = -1.0
     st[S_REAR_CAP] = -1.0
     st[S_P_PREDUMP] = -1.0
+    st[S_HEALTHY_S] = -1.0
+    st[S_REAPPLY] = -1.0
     return st
 
 
@@ -619,6 +654,30 @@ def own_yaw_step(st, m_z_nm, speed_mps, dt, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def released_wheel_healthy(st, b, v_ref, a_x, p_est, dt, p):
+    """TPMS-path confirmation (``tpms_confirm_flag``, 0 = seeded defect = no confirmation): a TPMS-only detection made
+    while the driver brakes releases the named wheel b. A flat wheel, once free of the brake, is driven up by its road
+    force toward its own free-rolling speed, (R_out/R_in - 1) ~ 50 % above the car's: it over-speeds (the wheel-speed
+    signature, threshold wheel_speed_threshold_frac) or at least spins up faster than the car decelerates. A healthy
+    wheel rolls at the car's speed and decelerates with it. Returns True (not confirmed: a false TPMS alarm) once b's
+    filtered speed has stayed within the threshold band around v_ref with its filtered acceleration at most
+    a_x + SPINUP_MARGIN_MPS2, with its pressure estimate down to the release level (free of the brake), for
+    HEALTHY_PERSIST_S; over-speed above the band confirms the detection for good
+    (S_HEALTHY_S = -1, no further check)."""
+    thr = p.blowout_compensation_wheel_speed_threshold_frac
+    v_b = wheel_speed_mean(st, b)
+    if v_b > v_ref * (1.0 + thr):
+        st[S_HEALTHY_S] = -1.0  # the blowout's over-speed: confirmed
+        return False
+    free = p_est[b] <= p.esp_unit_lpa_pressure_pa + RELEASED_MARGIN_PA
+    if free and abs(v_b - v_ref) <= thr * v_ref and wheel_accel_mps2(st, b, dt) <= a_x + SPINUP_MARGIN_MPS2:
+        st[S_HEALTHY_S] += dt
+    else:
+        st[S_HEALTHY_S] = 0.0
+    return st[S_HEALTHY_S] >= HEALTHY_PERSIST_S - 1e-9
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def stability_bounds(mu, speed_mps):
     """(yaw-rate bound [rad/s], sideslip bound [rad]) of the stable region (Rajamani, Vehicle Dynamics and Control,
     2nd ed. 2012, ch. 8 yaw control - the bounds widely used in ESP literature): |r| <= 0.85*mu*g/u (the yaw rate
@@ -907,6 +966,10 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_BETA_OWN] = 0.0  # the model of the function's own yaw moment starts at the detection (yaw_net_flag)
             st[S_R_OWN] = 0.0
             st[S_OVERSPEED_S] = 0.0
+            st[S_REAPPLY] = -1.0
+            # TPMS path (single source, braking): confirmation by the released wheel pending (tpms_confirm_flag)
+            st[S_HEALTHY_S] = 0.0 if (sources == SRC_TPMS and braking > 0.5
+                                      and p.blowout_compensation_tpms_confirm_flag > 0.5) else -1.0
             code = unstable_code(yaw_rate_meas, 0.0, v_ref, p)
             b_dot = a_y_meas / v_ref - yaw_rate_meas if v_ref > 1.0 else 0.0
             spin = code != LIMIT_NONE or phase_plane_unstable(0.0, b_dot, p)  # phase_plane_flag: the spin-front trigger
@@ -955,6 +1018,9 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             if st[S_OVERSPEED_S] >= p.blowout_compensation_detection_delay_s - 1e-9 and _opposite_linear(st, b, v_ref,
                                                                                                           a_x, p):
                 judged = toward + max(-r_own, 0.0)
+        unconfirmed = False
+        if st[S_HEALTHY_S] > -0.5:
+            unconfirmed = released_wheel_healthy(st, b, v_ref, a_x, p_est, dt, p)
         b_dot = a_y_meas / v_ref - yaw_rate_meas if v_ref > 1.0 else 0.0  # beta_dot = a_y/u - r (kinematic)
         st[S_BETA_EST] += b_dot * dt
         code = unstable_code(yaw_rate_meas, st[S_BETA_EST], v_ref, p)
@@ -967,8 +1033,20 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             _plan(st, b, sub, True, st[S_SLIP_EST], a_x, a_y_ref, p_est, p)
             n_events = log_event(events, n_events, t, machine_id, mode, LIMITED, G_STUCK)
             mode = LIMITED
-        elif single and judged < -p.blowout_compensation_abort_yaw_rate_radps:
-            n_events = log_event(events, n_events, t, machine_id, mode, REJECTED, G_YAW_IMPLAUSIBLE)
+        elif single and (judged < -p.blowout_compensation_abort_yaw_rate_radps or unconfirmed):
+            n_events = log_event(events, n_events, t, machine_id, mode, REJECTED,
+                                 G_YAW_IMPLAUSIBLE if judged < -p.blowout_compensation_abort_yaw_rate_radps
+                                 else G_UNCONFIRMED)
+            st[S_HEALTHY_S] = -1.0
+            # the released wheel back to the driver at once (reject_reapply_flag; functions/esp.py): ABS's pulsed re-build
+            # from the released level (55 -> 10 bar at a 500 N pedal) took 0.3 s on a front wheel, and the rear select-
+            # low held a released rear at 3-9 bar for > 1 s, each with the other wheel of the axle at the lock level
+            # - only a wheel that does not show the blowout's over-speed (a healthy one): a real flat wheel rejected by the
+            # yaw (FL, braking envelope seed 5 #31) re-braked at once took the car to 0.334 m vs 0.333 m without the
+            # function (0.224 m with ABS's pulsed re-build)
+            healthy = wheel_speed_mean(st, b) <= v_ref * (1.0 + p.blowout_compensation_wheel_speed_threshold_frac)
+            st[S_REAPPLY] = b if (braking > 0.5 and healthy and p.blowout_compensation_reject_reapply_flag > 0.5) else -1.0
+            st[S_REAPPLY_P] = -1.0
             mode = REJECTED
             st[S_REJECTED] = b
             st[S_BLOWN] = -1.0  # latch cleared: no wheel is held released any more, ABS/HBA run as without the function

@@ -527,6 +527,20 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                 # check valve would drain it into the master cylinder (plant/brakes/esp_unit.py), so hold it with
                 # the circuit isolated (HI) - what H/BPM did before the check valve was modelled (issue #9 review)
                 wm = W_HI
+        if abs_ok and int(bst[bc.S_REAPPLY]) == i and blow_req[i] == bc.Q_NONE:
+            # blowout compensation rejected its detection while the driver brakes (reject_reapply_flag): the wheel it had
+            # released gets the driver's pressure at once (inlet open, W_N) until the line model of its pressure
+            # (tau_line from the pressure at the rejection, the ECU's W_N estimate jumps to the source at once) reaches
+            # the pressure the other wheel of its axle carries (the driver's, as ABS lets it through), as without the
+            # function; then (or at an ABS dump of it) ABS as usual
+            if bst[bc.S_REAPPLY_P] < 0.0:
+                bst[bc.S_REAPPLY_P] = wheels[i, A_P_EST]
+            src_i = p_mc if i < 2 else _prop(p_mc, p)
+            if wm == W_D or bst[bc.S_REAPPLY_P] >= min(wheels[bc.OPPOSITE[i], A_P_EST], src_i) - 1.0e5:
+                bst[bc.S_REAPPLY] = -1.0
+            else:
+                wm = W_N
+                bst[bc.S_REAPPLY_P] += (src_i - bst[bc.S_REAPPLY_P]) * min(dt / p.esp_unit_line_time_constant_s, 1.0)
         wheels[i, A_WHEEL_MODE] = wm
         src = p_mc if i < 2 else _prop(p_mc, p)
         wheels[i, A_P_EST] = _estimate(wm, wheels[i, A_P_EST], src, dt, p, wheels[i, A_INLET_OPEN_S])

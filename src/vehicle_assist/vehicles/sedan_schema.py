@@ -210,6 +210,8 @@ class SedanBlowoutCompensation(Strict):
     brake_gain_tolerance_frac: Annotated[float, Field(ge=0, le=1)] = 0.18  # capacity rule judged at (1 + tol) x nominal pad friction (SAE J866 code F upper edge 0.45 / mu_b 0.38); 0 = defect
     spin_front_flag: Annotated[int, Field(ge=0, le=1)] = 1  # rear blowout beyond the stable region toward the blown side: front wheel braked instead of the rear; 0 = defect (refusal)
     yaw_net_flag: Annotated[int, Field(ge=0, le=1)] = 1  # yaw plausibility net of the released blown wheel's moment; 0 = defect (raw yaw)
+    tpms_confirm_flag: Annotated[int, Field(ge=0, le=1)] = 1  # TPMS-path detection confirmed by the released wheel; 0 = defect
+    reject_reapply_flag: Annotated[int, Field(ge=0, le=1)] = 1  # rejected while braking: released wheel re-applied at once; 0 = defect
     braking_rule_flag: Annotated[int, Field(ge=0, le=1)] = 1  # front blowout + braking driver: one rule for the compensating front wheel and the rear pair; 0 = defect (the rules before)
     braking_share_frac: Annotated[float, Field(ge=0, le=1)] = 1.0  # share of the driver's pressure on top of the drag balance (braking rule)
     phase_plane_flag: Annotated[int, Field(ge=0, le=1)] = 1  # spin-front rule also triggered by the sideslip phase plane |beta_dot + B1*beta| > B2 (Inagaki et al. 1994); 0 = defect (mu-0.8 bounds only)
