@@ -65,7 +65,7 @@ def test_noisy_dump_point_worse_with_the_defect(p15):
 
 
 @pytest.mark.xfail(strict=True, reason=(
-    "#16 is not fixed by the braking rule (0.96 -> 0.54 m, none 0.23 m): the excess is there before the pedal - "
+    "#16 is not fixed by the braking rule (0.96 -> 0.54 m, rear friction-circle cap 0.47 m, none 0.23 m): the excess is there before the pedal - "
     "without any pedal the compensated car ends 0.55 m off (none 0.58 m): at the pedal (t_b + 1.09 s) it is already "
     "drifting outward at ~0.25 m/s (over-compensation of the no-brake feed-forward on this wet curve, finding F6 "
     "'knife edge': 1 % pad-friction change moves it 0.4 m), while the uncompensated twin is on the other side of the "
