@@ -137,8 +137,8 @@ Front blowout with a braking driver (``braking_rule_flag``, 0 = seeded defect; `
 arbitration): from the yaw-moment balance of the four brake forces with the blown wheel unbraked,
 M_z = b_f*(D - F_opp) + b_r*(F_rl - F_rr): the compensating front wheel = drag balance (eqs. 26-28) + a share of the
 driver's pressure within its friction circle, the share only while the measured yaw does not point away from the blown
-side, re-built after an ABS dump to its pressure at the dump's start; the rear pair one linear-region cap at the
-measured friction.
+side, re-built after an ABS dump to its pressure at the dump's start; the rear pair one cap at the friction circle
+with its lateral share at the measured friction (``rear_circle_flag``; 0 = seeded defect = the linear-region cap).
 Optional closed loop (``closed_loop_flag``): in HOLD, yaw toward the blown side above the deadband adds
 pulsed build on the braking wheel, yaw away from it dumps; otherwise hold.
 """
@@ -1200,10 +1200,13 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
       level), not to the plan's lowered no-brake target (a noise-triggered dump held RF at ~7 bar for 1.5 s while
       the rears took the driver's 30-40 bar).
     * rear pair (b_r*(F_rl - F_rr)): one cap for both (the lower of the two, as the ESP's select-low, so the pair adds
-      no moment): the Dugoff linear-region force with its half of the rear lateral force at the measured friction
-      (``wheel_linear_limit_mu``, the f(H) >= 1 - s boundary of ``rear_linear_limit`` for an intact rear axle): with
-      the front axle one wheel short the driver's rear pressure alone took the rear tires to 5-10 % slip on a wet
-      curve and the car spun toward the blown side.
+      no moment): the friction circle sqrt((mu*F_z)^2 - F_y^2) with its half of the rear lateral force at the measured
+      friction (``wheel_circle_limit_mu``, ``rear_circle_flag``; 0 = seeded defect = the Dugoff linear-region force,
+      ``wheel_linear_limit_mu``, the f(H) >= 1 - s boundary, about half the friction: in a 650 m curve at 108-118 km/h
+      and mu 0.32-0.43 the curve's lateral force alone used it and 0-3 bar of the driver's 39 bar stayed on the intact
+      rear axle, the car hardly slowed and drifted out of the curve, falsifier random seed 43 #24): with the front axle
+      one wheel short the driver's uncapped rear pressure took the rear tires to 5-10 % slip on a wet curve and the car
+      spun toward the blown side (random seed 7 #15).
 
     Friction: the lowest the tire-capacity rule measured on the compensating wheel before the pedal (S_MU_MEAS), else
     the ECU's nominal mu_estimate_frac; the rear cap acts only on a measured friction (without evidence of a slippery
@@ -1244,7 +1247,31 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
     if st[S_MU_MEAS] > 0.0:
         f_rl, _ = wheel_linear_limit_mu(2, gl[2], a_y_ref, mu, b, p)
         f_rr, _ = wheel_linear_limit_mu(3, gl[3], a_y_ref, mu, b, p)
+        if p.blowout_compensation_rear_circle_flag > 0.5:
+            f_rl = max(f_rl, wheel_circle_limit_mu(2, gl[2], a_y_ref, mu, b, p))
+            f_rr = max(f_rr, wheel_circle_limit_mu(3, gl[3], a_y_ref, mu, b, p))
         st[S_REAR_CAP] = min(f_rl, f_rr) * r_w / p.brakes_rear_gain_nm_per_pa
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def wheel_circle_limit_mu(i, fz_straight_n, a_y, mu, blown, p):
+    """Brake force [N] intact wheel ``i`` can carry inside its friction circle at friction ``mu`` next to its share of
+    its axle's lateral force for a_y (``rear_circle_flag``): F_x <= sqrt((mu*F_z)^2 - F_y^2) (spec 2.3: the Dugoff
+    resultant is bounded by mu*F_z), load and lateral share as in ``wheel_linear_limit_mu`` (spec eqs. 3-4, lateral
+    force shared by cornering stiffness with the other wheel of the axle). 0 when the lateral force alone uses mu*F_z."""
+    l = p.chassis_wheelbase_m
+    l_f = p.chassis_cg_to_front_axle_m
+    m = p.body_mass_kg
+    front = i < 2
+    l_o = (l - l_f) if front else l_f
+    track = p.chassis_front_track_m if front else p.chassis_rear_track_m
+    d_fz = m * a_y * p.chassis_cg_height_m * l_o / (track * l)
+    fz = fz_straight_n + (-d_fz if i % 2 == 0 else d_fz)  # a_y > 0 (left turn) loads the right wheels
+    other = i + 1 if i % 2 == 0 else i - 1
+    k_other = p.blowout_cornering_stiffness_frac if other == blown else 1.0
+    fy = m * abs(a_y) * l_o / l / (1.0 + k_other)
+    cap = mu * max(fz, 0.0)
+    return math.sqrt(cap * cap - fy * fy) if cap > fy else 0.0
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
