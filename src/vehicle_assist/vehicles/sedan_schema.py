@@ -134,6 +134,9 @@ class SedanEsp(Strict):
     # while braking: rise-bounded reference, a fast wheel without ABS activity left out; 0 = defect (F4b, frozen)
     reference_braking_plausibility_flag: Annotated[int, Field(ge=0, le=1)] = 1
     reference_braking_abs_quiet_time_s: Annotated[float, Field(gt=0, le=5)] = 0.3
+    # while braking only a lone valve-quiet fast wheel is bounded/left out; 0 = defect (968b8ea: any own-mode-quiet wheel)
+    reference_braking_outlier_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    reference_braking_onset_s: Annotated[float, Field(gt=0, le=5)] = 0.3
     plausibility_time_s: Annotated[float, Field(gt=0, le=5)]
     plausibility_pressure_bar: Annotated[float, Field(gt=0, le=50)]
 
