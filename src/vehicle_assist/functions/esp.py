@@ -530,7 +530,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                 req = R_GMA_HOLD  # at the other front's pressure: hold, circuit isolated
         wm = ARBITRATION[row, req] if abs_ok else W_N
         if (i >= 2 and row == hba.ACTIVE and (wm == W_B or wm == W_BP) and blown < 0
-                and p.esp_hba_rear_select_low_flag > 0.5 and wheels[i, A_P_EST] >= wheels[5 - i, A_P_EST] + RAMP_SETTLED_PA):
+                and p.esp_hba_rear_select_low_flag > 0.5 and ctl[C_SOURCE_C1 + CIRCUIT[5 - i]] == SRC_PUMP
+                and wheels[i, A_P_EST] >= wheels[5 - i, A_P_EST] + RAMP_SETTLED_PA):
             # rear select-low on pressure during the pump build: the X-split pumps a rear with its circuit's front, so
             # on split-mu the high-mu rear of the low-mu front's circuit was pumped above the other rear (86-89 vs
             # 65-75 bar at 80 km/h dry/wet) - a yaw moment no ABS rear has (its rears follow the more critical one);
