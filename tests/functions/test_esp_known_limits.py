@@ -55,7 +55,7 @@ REAR_DEFECT = "vehicle.esp.hba_rear_select_low_flag=0"  # seeded defect: each re
 def test_dry_wet_split_hba_heading_not_worse_with_rear_select_low(speed_kph):
     """Dry/wet split at 80 and 100 km/h: with the rear select-low on pressure during the pump build
     (``esp.hba_rear_select_low_flag``) the HBA stop's heading is not worse than without HBA (no_worse_heading, floor
-    0.1 deg; measured 80 km/h 1.40 vs 2.27 deg, 100 km/h 2.40 vs 4.48). With the seeded defect the X-split pumps the
+    0.1 deg; measured 80 km/h 1.36 vs 2.27 deg, 100 km/h 2.37 vs 4.48). With the seeded defect the X-split pumps the
     dry rear (RL, the wet front's circuit) to 86-89 bar against 65-75 on the wet rear and the 80 km/h stop is worse
     than none (3.15 vs 2.27 deg), so the check can fail there."""
     on, off = _dry_wet_split_pair(speed_kph)
