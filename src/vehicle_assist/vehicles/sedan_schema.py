@@ -123,6 +123,7 @@ class SedanEsp(Strict):
     yaw_dump_rate_deg_per_s: Annotated[float, Field(gt=0, le=180)]
     gma_hba_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: HBA pumps past the GMA)
     gma_follow_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (GMA wheel capped below the pumped other front)
+    hba_rear_select_low_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = old: rears pumped with their circuit's front
     hba_master_rebuild_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: pump re-build undecided)
     hba_rampout_pumped_only_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: ramp-out unpumped)
     abs_signal_filter_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (#10 F2: raw-differenced wheel decel)
@@ -134,6 +135,9 @@ class SedanEsp(Strict):
     # while braking: rise-bounded reference, a fast wheel without ABS activity left out; 0 = defect (F4b, frozen)
     reference_braking_plausibility_flag: Annotated[int, Field(ge=0, le=1)] = 1
     reference_braking_abs_quiet_time_s: Annotated[float, Field(gt=0, le=5)] = 0.3
+    # while braking only a lone valve-quiet fast wheel is bounded/left out; 0 = defect (968b8ea: any own-mode-quiet wheel)
+    reference_braking_outlier_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    reference_braking_onset_s: Annotated[float, Field(gt=0, le=5)] = 0.3
     plausibility_time_s: Annotated[float, Field(gt=0, le=5)]
     plausibility_pressure_bar: Annotated[float, Field(gt=0, le=50)]
 
