@@ -59,6 +59,16 @@ while the same-axle braked wheel is in its linear region (``_opposite_linear``; 
 a real blowout is not rejected for the yaw the release makes (RL 119 km/h, pedal at t_b - 15 ms: 1.39 -> 0.64 m, none
 1.19 m). The compensation pressure stays in the judged yaw: it balances a real blowout's moment and is the unbalanced
 moment of a false detection.
+BUILD/HOLD/LIMITED -> REJECTED (signature_unconfirmed; ``tpms_confirm_flag``, 0 = seeded defect; findings_F.md P,
+session 2026-11-24 e): a TPMS-path detection (TPMS only, driver braking) is confirmed by the released wheel - a flat wheel
+freed of the brake spins up toward its free-rolling speed ~50 % above the car's, a healthy one rolls at the car's speed.
+Its filtered speed within ``wheel_speed_threshold_frac`` of v_ref with its filtered acceleration below a_x +
+SPINUP_MARGIN_MPS2, its pressure down (free of the brake), for HEALTHY_PERSIST_S (``released_wheel_healthy``) rejects it as a false alarm (as yaw_implausible);
+over-speed confirms it for good. A false RL alarm under an 80 N pedal was never rejected by the yaw (RR's counter-brake
+held under the rear slip limit): 1.76 / 2.55 m at 100 / 120 km/h -> 0.015 / 0.020 m (the function off: 0.00 m).
+After a rejection while braking the released wheel gets the driver's pressure back at once (``reject_reapply_flag``,
+S_REAPPLY, functions/esp.py) up to the same-axle wheel's pressure: ABS had re-built it in pulses (front) or the rear
+select-low held it low (false FL / RL alarm under 500 N at 100 km/h: 1.33 / 2.57 -> 0.54 / 0.87 m).
 REJECTED -> IDLE (signature_cleared): no candidate on the rejected wheel for ``detection_delay_s``.
 REJECTED -> BUILD / LIMITED: a blowout found on another wheel (same guards as from IDLE).
 HOLD/LIMITED -> ENDED (vehicle_slow): reference speed below the minimum speed: compensation over; a real blown
@@ -81,13 +91,18 @@ dumped while the car turns back away from the blown side faster than the ESP's y
 spin lasts (the ESP's GMA does not delay it, functions/esp.py). Front blowouts and rotation away from the blown side:
 refused as before. Rear spin points (RL 101.9 / 110.7 km/h, 650 m): 18.84 / 21.73 m with the refusal, 7.72 / 6.78 m
 with the rule, none 18.17 / 20.72 m (docs/functions/tire_blowout.md).
+Its trigger also reads the friction-free sideslip phase plane (``phase_plane_unstable``, ``phase_plane_flag``, 0 = seeded
+defect = the mu-0.8 bounds alone): |beta_dot + B1*beta| > B2 (Inagaki et al. 1994, dry road), beta_dot = a_y/u - r
+measured - on mu 0.48 the mu-0.8 yaw bound was crossed only late in the slide (random 7 #7: 3.39 s, 17.33 m vs none
+15.94; with it 2.36 s, 13.33 m). The refusal keeps the mu-0.8 bounds.
 Rear compensating wheel (``slip_limit_flag``, 0 = seeded defect; falsification of issue #10): its brake force is
 kept below the slip where braking starts to cut its lateral force (Dugoff f(H) >= 1 - s; round 3 - with the nominal
 mu alone this limit made two low-friction points worse than none in round 2, the measured tire capacity below now
 guards them; round 2 used the H = 1 boundary) while it carries its
 share of the rear axle's lateral force for the steered path (by cornering stiffness, the flat tire k_Cy),
 ``rear_linear_limit``: the planned added pressure is capped at that force, and every period a
-measured slip above the matching slip dumps the added pressure (never below the driver's) and lowers the held
+measured slip above the matching slip dumps the added pressure (never below the driver's current pressure at
+the wheel: the measured master pressure through the proportioning valve) and lowers the held
 target. A rear wheel braked into saturation (12-18 % slip, below ABS's 20 %) left the axle with
 the flat tire without lateral force and the car spun toward the blown side. Front targets are not limited by it
 (less front lateral force is understeer, which does not spin the car).
@@ -122,8 +137,8 @@ Front blowout with a braking driver (``braking_rule_flag``, 0 = seeded defect; `
 arbitration): from the yaw-moment balance of the four brake forces with the blown wheel unbraked,
 M_z = b_f*(D - F_opp) + b_r*(F_rl - F_rr): the compensating front wheel = drag balance (eqs. 26-28) + a share of the
 driver's pressure within its friction circle, the share only while the measured yaw does not point away from the blown
-side, re-built after an ABS dump to its pressure at the dump's start; the rear pair one linear-region cap at the
-measured friction.
+side, re-built after an ABS dump to its pressure at the dump's start; the rear pair one cap at the friction circle
+with its lateral share at the measured friction (``rear_circle_flag``; 0 = seeded defect = the linear-region cap).
 Optional closed loop (``closed_loop_flag``): in HOLD, yaw toward the blown side above the deadband adds
 pulsed build on the braking wheel, yaw away from it dumps; otherwise hold.
 """
@@ -135,6 +150,7 @@ import numba as nb
 import numpy as np
 
 from vehicle_assist.core.fsm import StateMachine, Transition, log_event
+from vehicle_assist.plant.brakes.master_cylinder import proportioned_pa
 from vehicle_assist.plant.tires.blowout import OPPOSITE, redistributed_loads, transfer_n
 
 IDLE, BUILD, HOLD, LIMITED, REJECTED, ENDED, REFUSED = range(7)
@@ -165,8 +181,13 @@ MACHINE = StateMachine("blowout_compensation", MODES, (
     Transition("HOLD", "LIMITED", "beyond_stable_region", "as from BUILD"),
     Transition("IDLE", "LIMITED", "beyond_stable_region", "as from BUILD, the car already beyond at the detection"),
     Transition("REJECTED", "LIMITED", "beyond_stable_region", "as from IDLE"),
+    Transition("BUILD", "REJECTED", "signature_unconfirmed", "TPMS-path detection while braking (tpms_confirm_flag): the "
+               "released wheel rolls at the car's speed without spinning up (a released flat wheel spins up to ~50 % "
+               "over-speed): a healthy wheel, false TPMS alarm - release, latch cleared, as yaw_implausible"),
+    Transition("HOLD", "REJECTED", "signature_unconfirmed", "as from BUILD"),
+    Transition("LIMITED", "REJECTED", "signature_unconfirmed", "as from BUILD"),
 ))
-G_DETECTED, G_STUCK, G_VALVE_DONE, G_YAW_IMPLAUSIBLE, G_SLOW, G_CLEARED, G_UNSTABLE = range(7)
+G_DETECTED, G_STUCK, G_VALVE_DONE, G_YAW_IMPLAUSIBLE, G_SLOW, G_CLEARED, G_UNSTABLE, G_UNCONFIRMED = range(8)
 REASONS = MACHINE.guards
 # per-wheel requests to the ESP arbitration
 Q_NONE, Q_BUILD, Q_HOLD, Q_RELEASE, Q_PULSE = range(5)
@@ -195,7 +216,14 @@ S_P_BRAKE = S_OVERSPEED_S + 1
 S_MU_MEAS = S_P_BRAKE + 1
 S_REAR_CAP = S_MU_MEAS + 1
 S_P_PREDUMP = S_REAR_CAP + 1
-STATE_SIZE = S_P_PREDUMP + 1
+# TPMS-path confirmation (``tpms_confirm_flag``): how long the released wheel of a TPMS-only detection made while braking
+# has rolled at the car's speed without spinning up [s]; -1 = not pending (no such detection, or confirmed by over-speed)
+S_HEALTHY_S = S_P_PREDUMP + 1
+# re-apply after a rejection while braking (``reject_reapply_flag``): the wheel the rejected detection had released, to be
+# given the driver's pressure back at once up to the same-axle wheel's pressure (functions/esp.py); -1 none
+S_REAPPLY = S_HEALTHY_S + 1
+S_REAPPLY_P = S_REAPPLY + 1  # the ECU's line model of that wheel's pressure during the re-apply [Pa] (-1 = not started)
+STATE_SIZE = S_REAPPLY_P + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -221,6 +249,17 @@ CAP_FORCE_RATIO = 0.8  # assumed: measured F_x below 0.8*C_x*s/(1 - s) (Dugoff f
 #   is not evidence of a saturating tire (the paper's own test runs its front wheel at 0.83 on the cement road)
 CAP_MIN_SLIP = 0.01  # assumed: below 1 % the wheel-speed slip is within the wheel-radius/cornering spread of the wheels
 CAP_PERSIST_S = 0.02  # assumed: 4 ESP periods of 5 ms below the ratio before latching (debounce of a derivative signal)
+# TPMS-path confirmation (tpms_confirm_flag, ``released_wheel_healthy``)
+SPINUP_MARGIN_MPS2 = 10.0  # derived: a released flat wheel spins up at F_x*R_in*R_out/J; even a flat tire carrying only
+#   140 N of road force (R_in 0.24 m, R_out 0.359 m, J 1.2 kg*m^2, suv_bj2500) gives 10 m/s^2 above the car's a_x, while the
+#   filtered slope's noise is 3.3 m/s^2 (1 sigma) at the envelope's 0.3 rad/s wheel-speed noise (WS_WINDOW_N note); the
+#   measured flat wheels spin up at 40-50 m/s^2 (RL 119 km/h mu 0.49: 46 m/s^2 at 640 N)
+HEALTHY_PERSIST_S = 0.02 + WS_WINDOW_N * 0.005  # assumed: 4 ESP periods (as CAP_PERSIST_S) after a whole filter window
+#   (WS_WINDOW_N ESP periods of 5 ms) of samples taken with the wheel free of the brake: a flat rear wheel under a light
+#   pedal rolls at ~v_ref while still braked (its own slip ~1/3) and starts to spin up only once its pressure is down
+#   (CMA-ES seed 2026 #2/#11: RL/RR blowouts rejected 15-20 ms after the detection while the pressure still fell)
+RELEASED_MARGIN_PA = 1.0e5  # assumed: the released wheel counts as free of the brake below the unit's low-pressure
+#   accumulator level + 1 bar (ECU pressure estimate; ~1 bar is < 4 % of a light pedal's rear pressure)
 
 
 def initial_state() -> np.ndarray:
@@ -234,6 +273,8 @@ def initial_state() -> np.ndarray:
     st[S_P_BRAKE] = -1.0
     st[S_REAR_CAP] = -1.0
     st[S_P_PREDUMP] = -1.0
+    st[S_HEALTHY_S] = -1.0
+    st[S_REAPPLY] = -1.0
     return st
 
 
@@ -613,6 +654,30 @@ def own_yaw_step(st, m_z_nm, speed_mps, dt, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def released_wheel_healthy(st, b, v_ref, a_x, p_est, dt, p):
+    """TPMS-path confirmation (``tpms_confirm_flag``, 0 = seeded defect = no confirmation): a TPMS-only detection made
+    while the driver brakes releases the named wheel b. A flat wheel, once free of the brake, is driven up by its road
+    force toward its own free-rolling speed, (R_out/R_in - 1) ~ 50 % above the car's: it over-speeds (the wheel-speed
+    signature, threshold wheel_speed_threshold_frac) or at least spins up faster than the car decelerates. A healthy
+    wheel rolls at the car's speed and decelerates with it. Returns True (not confirmed: a false TPMS alarm) once b's
+    filtered speed has stayed within the threshold band around v_ref with its filtered acceleration at most
+    a_x + SPINUP_MARGIN_MPS2, with its pressure estimate down to the release level (free of the brake), for
+    HEALTHY_PERSIST_S; over-speed above the band confirms the detection for good
+    (S_HEALTHY_S = -1, no further check)."""
+    thr = p.blowout_compensation_wheel_speed_threshold_frac
+    v_b = wheel_speed_mean(st, b)
+    if v_b > v_ref * (1.0 + thr):
+        st[S_HEALTHY_S] = -1.0  # the blowout's over-speed: confirmed
+        return False
+    free = p_est[b] <= p.esp_unit_lpa_pressure_pa + RELEASED_MARGIN_PA
+    if free and abs(v_b - v_ref) <= thr * v_ref and wheel_accel_mps2(st, b, dt) <= a_x + SPINUP_MARGIN_MPS2:
+        st[S_HEALTHY_S] += dt
+    else:
+        st[S_HEALTHY_S] = 0.0
+    return st[S_HEALTHY_S] >= HEALTHY_PERSIST_S - 1e-9
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def stability_bounds(mu, speed_mps):
     """(yaw-rate bound [rad/s], sideslip bound [rad]) of the stable region (Rajamani, Vehicle Dynamics and Control,
     2nd ed. 2012, ch. 8 yaw control - the bounds widely used in ESP literature): |r| <= 0.85*mu*g/u (the yaw rate
@@ -637,6 +702,22 @@ def unstable_code(yaw_rate_meas, beta_est, speed_mps, p):
     if abs(beta_est) > beta_max:
         return LIMIT_SIDESLIP_BOUND
     return LIMIT_NONE
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def phase_plane_unstable(beta_est, beta_dot, p):
+    """``phase_plane_flag`` (0 = seeded defect = the mu-0.8 bounds of ``unstable_code`` alone): True when the sideslip /
+    sideslip-rate state lies outside the stable region of the beta-beta_dot phase plane, |beta_dot + B1*beta| > B2
+    (Inagaki, Kushiro, Yamamoto, AVEC 1994 / JSAE Review 16 (1995): critical cornering by the phase-plane method;
+    B1 = phase_plane_b1, B2 = phase_plane_b2, the dry-road boundary). Friction-free and from measurements only:
+    beta_dot = a_y/u - r (kinematic, the measured lateral acceleration against the yaw rate it would need, u*r) and beta
+    its integral from the detection (S_BETA_EST). The dry-road boundary is the loosest (a lower friction shrinks the
+    stable region), as the nominal mu 0.8 of ``unstable_code`` is the loosest of the envelope's roads; unlike the yaw
+    bound it is crossed as soon as the rear slides (the sideslip grows) on any friction - on mu 0.48 the yaw-rate bound
+    0.85*0.8*g/u is reached only once the car has turned through its slide (random 7 #7: 3.39 s vs 2.36 s)."""
+    if p.blowout_compensation_phase_plane_flag < 0.5:
+        return False
+    return abs(beta_dot + p.blowout_compensation_phase_plane_b1_per_s * beta_est) > p.blowout_compensation_phase_plane_b2_radps
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -885,8 +966,14 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_BETA_OWN] = 0.0  # the model of the function's own yaw moment starts at the detection (yaw_net_flag)
             st[S_R_OWN] = 0.0
             st[S_OVERSPEED_S] = 0.0
+            st[S_REAPPLY] = -1.0
+            # TPMS path (single source, braking): confirmation by the released wheel pending (tpms_confirm_flag)
+            st[S_HEALTHY_S] = 0.0 if (sources == SRC_TPMS and braking > 0.5
+                                      and p.blowout_compensation_tpms_confirm_flag > 0.5) else -1.0
             code = unstable_code(yaw_rate_meas, 0.0, v_ref, p)
-            if code != LIMIT_NONE and new == BUILD and spin_front_applies(b, target, yaw_rate_meas, inlet_ok, p):
+            b_dot = a_y_meas / v_ref - yaw_rate_meas if v_ref > 1.0 else 0.0
+            spin = code != LIMIT_NONE or phase_plane_unstable(0.0, b_dot, p)  # phase_plane_flag: the spin-front trigger
+            if spin and new == BUILD and spin_front_applies(b, target, yaw_rate_meas, inlet_ok, p):
                 # already beyond the stable region rotating toward the blown side (rear blowout): the front wheel of the
                 # compensating side instead (spin_front_flag), as from BUILD/HOLD below
                 sub = _substitute(b)
@@ -931,9 +1018,14 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             if st[S_OVERSPEED_S] >= p.blowout_compensation_detection_delay_s - 1e-9 and _opposite_linear(st, b, v_ref,
                                                                                                           a_x, p):
                 judged = toward + max(-r_own, 0.0)
-        if v_ref > 1.0:
-            st[S_BETA_EST] += (a_y_meas / v_ref - yaw_rate_meas) * dt  # beta_dot = a_y/u - r (kinematic)
+        unconfirmed = False
+        if st[S_HEALTHY_S] > -0.5:
+            unconfirmed = released_wheel_healthy(st, b, v_ref, a_x, p_est, dt, p)
+        b_dot = a_y_meas / v_ref - yaw_rate_meas if v_ref > 1.0 else 0.0  # beta_dot = a_y/u - r (kinematic)
+        st[S_BETA_EST] += b_dot * dt
         code = unstable_code(yaw_rate_meas, st[S_BETA_EST], v_ref, p)
+        # spin-front trigger (phase_plane_flag): the mu-0.8 bounds or the friction-free sideslip phase plane
+        spin = code != LIMIT_NONE or phase_plane_unstable(st[S_BETA_EST], b_dot, p)
         if (mode == BUILD or mode == HOLD) and inlet_ok[tg] < 0.5:
             # diagnosis after the detection: re-plan on the substitute wheel (slip as at detection)
             sub = _substitute(b)
@@ -941,8 +1033,20 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             _plan(st, b, sub, True, st[S_SLIP_EST], a_x, a_y_ref, p_est, p)
             n_events = log_event(events, n_events, t, machine_id, mode, LIMITED, G_STUCK)
             mode = LIMITED
-        elif single and judged < -p.blowout_compensation_abort_yaw_rate_radps:
-            n_events = log_event(events, n_events, t, machine_id, mode, REJECTED, G_YAW_IMPLAUSIBLE)
+        elif single and (judged < -p.blowout_compensation_abort_yaw_rate_radps or unconfirmed):
+            n_events = log_event(events, n_events, t, machine_id, mode, REJECTED,
+                                 G_YAW_IMPLAUSIBLE if judged < -p.blowout_compensation_abort_yaw_rate_radps
+                                 else G_UNCONFIRMED)
+            st[S_HEALTHY_S] = -1.0
+            # the released wheel back to the driver at once (reject_reapply_flag; functions/esp.py): ABS's pulsed re-build
+            # from the released level (55 -> 10 bar at a 500 N pedal) took 0.3 s on a front wheel, and the rear select-
+            # low held a released rear at 3-9 bar for > 1 s, each with the other wheel of the axle at the lock level
+            # - only a wheel that does not show the blowout's over-speed (a healthy one): a real flat wheel rejected by the
+            # yaw (FL, braking envelope seed 5 #31) re-braked at once took the car to 0.334 m vs 0.333 m without the
+            # function (0.224 m with ABS's pulsed re-build)
+            healthy = wheel_speed_mean(st, b) <= v_ref * (1.0 + p.blowout_compensation_wheel_speed_threshold_frac)
+            st[S_REAPPLY] = b if (braking > 0.5 and healthy and p.blowout_compensation_reject_reapply_flag > 0.5) else -1.0
+            st[S_REAPPLY_P] = -1.0
             mode = REJECTED
             st[S_REJECTED] = b
             st[S_BLOWN] = -1.0  # latch cleared: no wheel is held released any more, ABS/HBA run as without the function
@@ -951,7 +1055,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_CLEAR_S] = 0.0
             st[S_SUSPECT] = -1.0
             st[S_SUSPECT_S] = 0.0
-        elif code != LIMIT_NONE and mode != LIMITED and spin_front_applies(b, tg, yaw_rate_meas, inlet_ok, p):
+        elif spin and mode != LIMITED and spin_front_applies(b, tg, yaw_rate_meas, inlet_ok, p):
             # rear blowout, beyond the stable region, rotating toward the blown side: stop loading the rear axle and
             # brake the front wheel of the same side instead (spin_front_flag; module doc)
             sub = _substitute(b)
@@ -1019,6 +1123,15 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             # below ABS's 20 % threshold, 16.6 m vs 5.1 m without compensation)
             _, cap = rear_linear_limit(tg, st[S_FZ_TARGET], a_y_ref, p)
             st[S_SLIP_CAP] = cap
+            # the floor: the driver's CURRENT pressure at this wheel (the measured master pressure through the
+            # proportioning valve, as the ESP passes it on; ABS guards it), not the pressure at detection S_P_START
+            # (0 when the pedal comes after the detection: the limit then dumped every later driver's pressure on the
+            # wheel and, with the flat wheel released, left the rear axle unbraked - F2 CMA 2026 #46, RR 83.5 km/h:
+            # 3.26 m vs 2.97 m without compensation)
+            p_floor = st[S_P_START]
+            if braking > 0.5:
+                p_floor = max(p_floor, proportioned_pa(max(p_mc, 0.0), p.master_cylinder_proportioning_knee_pa,
+                                                       p.master_cylinder_proportioning_slope_frac))
             if p.blowout_compensation_signal_filter_flag > 0.5:
                 # filtered slip (moving mean, v_ref from the same window), persistence, hysteresis (signal_filter_flag;
                 # raw samples with 0.1 rad/s wheel-speed noise dumped and latched the target on one sample: RR 60 km/h
@@ -1045,7 +1158,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                     st[S_P_REQ] = max(min(st[S_P_REQ], p_cap), st[S_P_START])
                     st[S_SLIP_HIGH_S] = -WS_WINDOW_N * dt
                 if st[S_SLIP_LIMITED] > 0.5:
-                    if p_est[tg] > st[S_P_REQ] + 1.0e5:
+                    if p_est[tg] > max(st[S_P_REQ], p_floor) + 1.0e5:
                         requests[tg] = Q_RELEASE
                     elif mode == BUILD:
                         requests[tg] = Q_HOLD  # once limited, the build does not start again
@@ -1056,7 +1169,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             if over:
                 st[S_SLIP_LIMITED] = 1.0
                 st[S_P_REQ] = max(min(st[S_P_REQ], p_est[tg]), st[S_P_START])
-                requests[tg] = Q_RELEASE if p_est[tg] > st[S_P_START] + 1.0e5 else Q_HOLD
+                requests[tg] = Q_RELEASE if p_est[tg] > p_floor + 1.0e5 else Q_HOLD
             elif mode == BUILD and st[S_SLIP_LIMITED] > 0.5:
                 requests[tg] = Q_HOLD  # once limited, the build does not start again: hold at the lowered target
         if p.blowout_compensation_tire_capacity_flag > 0.5 and st[S_LIMIT_CODE] != LIMIT_SPIN_FRONT:
@@ -1088,10 +1201,13 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
       the rears took the driver's 30-40 bar); that ceiling ends when ABS lets the wheel go (build_idle, no hold or
       dump for abs_idle_time_s: no lock level is known any more).
     * rear pair (b_r*(F_rl - F_rr)): one cap for both (the lower of the two, as the ESP's select-low, so the pair adds
-      no moment): the Dugoff linear-region force with its half of the rear lateral force at the measured friction
-      (``wheel_linear_limit_mu``, the f(H) >= 1 - s boundary of ``rear_linear_limit`` for an intact rear axle): with
-      the front axle one wheel short the driver's rear pressure alone took the rear tires to 5-10 % slip on a wet
-      curve and the car spun toward the blown side.
+      no moment): the friction circle sqrt((mu*F_z)^2 - F_y^2) with its half of the rear lateral force at the measured
+      friction (``wheel_circle_limit_mu``, ``rear_circle_flag``; 0 = seeded defect = the Dugoff linear-region force,
+      ``wheel_linear_limit_mu``, the f(H) >= 1 - s boundary, about half the friction: in a 650 m curve at 108-118 km/h
+      and mu 0.32-0.43 the curve's lateral force alone used it and 0-3 bar of the driver's 39 bar stayed on the intact
+      rear axle, the car hardly slowed and drifted out of the curve, falsifier random seed 43 #24): with the front axle
+      one wheel short the driver's uncapped rear pressure took the rear tires to 5-10 % slip on a wet curve and the car
+      spun toward the blown side (random seed 7 #15).
 
     Friction: the lowest the tire-capacity rule measured on the compensating wheel before the pedal (S_MU_MEAS), else
     the ECU's nominal mu_estimate_frac; the rear cap acts only on a measured friction (without evidence of a slippery
@@ -1132,7 +1248,31 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
     if st[S_MU_MEAS] > 0.0:
         f_rl, _ = wheel_linear_limit_mu(2, gl[2], a_y_ref, mu, b, p)
         f_rr, _ = wheel_linear_limit_mu(3, gl[3], a_y_ref, mu, b, p)
+        if p.blowout_compensation_rear_circle_flag > 0.5:
+            f_rl = max(f_rl, wheel_circle_limit_mu(2, gl[2], a_y_ref, mu, b, p))
+            f_rr = max(f_rr, wheel_circle_limit_mu(3, gl[3], a_y_ref, mu, b, p))
         st[S_REAR_CAP] = min(f_rl, f_rr) * r_w / p.brakes_rear_gain_nm_per_pa
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def wheel_circle_limit_mu(i, fz_straight_n, a_y, mu, blown, p):
+    """Brake force [N] intact wheel ``i`` can carry inside its friction circle at friction ``mu`` next to its share of
+    its axle's lateral force for a_y (``rear_circle_flag``): F_x <= sqrt((mu*F_z)^2 - F_y^2) (spec 2.3: the Dugoff
+    resultant is bounded by mu*F_z), load and lateral share as in ``wheel_linear_limit_mu`` (spec eqs. 3-4, lateral
+    force shared by cornering stiffness with the other wheel of the axle). 0 when the lateral force alone uses mu*F_z."""
+    l = p.chassis_wheelbase_m
+    l_f = p.chassis_cg_to_front_axle_m
+    m = p.body_mass_kg
+    front = i < 2
+    l_o = (l - l_f) if front else l_f
+    track = p.chassis_front_track_m if front else p.chassis_rear_track_m
+    d_fz = m * a_y * p.chassis_cg_height_m * l_o / (track * l)
+    fz = fz_straight_n + (-d_fz if i % 2 == 0 else d_fz)  # a_y > 0 (left turn) loads the right wheels
+    other = i + 1 if i % 2 == 0 else i - 1
+    k_other = p.blowout_cornering_stiffness_frac if other == blown else 1.0
+    fy = m * abs(a_y) * l_o / l / (1.0 + k_other)
+    cap = mu * max(fz, 0.0)
+    return math.sqrt(cap * cap - fy * fy) if cap > fy else 0.0
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")

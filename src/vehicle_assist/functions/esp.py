@@ -97,9 +97,10 @@ ABS_LOG_CAP = 60  # ABS mode changes logged per wheel (the event buffer is share
 # controller state vector (named indices)
 C_V_REF, C_STARTED, C_IMPLAUSIBLE_S, C_SENSOR_LATCH, C_GMA_START, C_GMA_WHEEL, C_T, C_SENSOR_OK, C_ABS_OK, \
     C_HBA_AVAILABLE, C_SOURCE_C1, C_SOURCE_C2, C_GMA_BLOCK, C_PUMPED_C1, C_PUMPED_C2, C_REF_EXCLUDED, \
-    C_REF_PERSIST_S = range(17)
+    C_REF_PERSIST_S, C_BRAKED_S = range(18)
 SRC_UNDECIDED, SRC_PUMP, SRC_DRIVER = 0.0, 1.0, 2.0  # per circuit during an assist (C_SOURCE_C1/C2)
-CTL_SIZE = 17
+CTL_SIZE = 18
+# C_BRAKED_S: time since the brake-light switch came on (0 while off)
 # C_REF_EXCLUDED: wheel the reference speed leaves out as implausibly fast (-1 none); C_REF_PERSIST_S: how long the
 # pending change (a new fast wheel, or the excluded one plausible again) has persisted
 # C_PUMPED_C1/C2: 1 once the pump served the circuit in this assist (source SRC_PUMP), kept through TERMINATING
@@ -109,9 +110,10 @@ CTL_SIZE = 17
 # while braking latched the GMA on the healthy wheel it had released, 3-10 bar for ~1 s, 1.12 m off the lane)
 # per-wheel state (rows fl, fr, rl, rr)
 A_MODE, A_BUILD_S, A_VW_PREV, A_SINCE_HD_S, A_LOGGED, A_SLIP, A_DECEL, A_REQUEST, A_WHEEL_MODE, A_P_EST, \
-    A_INLET_OPEN_S, A_ABS_QUIET_S = range(12)
-WHEEL_STATE_SIZE = 12
-# A_ABS_QUIET_S: time since the wheel's ABS mode was last other than OFF (hold, dump or build)
+    A_INLET_OPEN_S, A_ABS_QUIET_S, A_VALVE_QUIET_S = range(13)
+WHEEL_STATE_SIZE = 13
+# A_ABS_QUIET_S: time since the wheel's ABS mode was last other than OFF (hold, dump or build); A_VALVE_QUIET_S: time
+# since its ABS mode was last other than OFF or its valve mode other than N/B (inlet closed, outlet open, pulsed)
 
 
 def initial_state() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -119,6 +121,7 @@ def initial_state() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     wheels = np.zeros((4, WHEEL_STATE_SIZE))
     wheels[:, A_SINCE_HD_S] = 1e9
     wheels[:, A_ABS_QUIET_S] = 1e9
+    wheels[:, A_VALVE_QUIET_S] = 1e9
     ctl = np.zeros(CTL_SIZE)
     ctl[C_REF_EXCLUDED] = -1.0
     return ctl, wheels, hba.initial_state()
@@ -137,11 +140,46 @@ def _persisted(ctl, new_ex, dt, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def plausible_reference(ctl, vw, braking, p, dt, a_x=0.0, abs_quiet_s=None):
+def braking_outlier(vw, ex, abs_quiet_s, p):
+    """While braking: the wheel that may be implausibly fast (a blown or too-small tire), else -1. It is the fastest
+    wheel other than the excluded ``ex``, alone: more than ``reference_implausible_frac`` above the SECOND fastest (a
+    smaller rolling radius makes one wheel fast; a reference drifted low under a whole-car slip sees several wheels,
+    or one wheel the ABS released, come back), and without valve activity for ``reference_braking_abs_quiet_time_s``
+    (``abs_quiet_s``; None: all quiet): a wheel whose inlet was closed or outlet opened (its own ABS, the rear
+    select-low, the GMA) is recovering toward the car's speed from below, never a fast tire's signature."""
+    first = -1
+    v1 = -1.0
+    v2 = -1.0
+    for i in range(4):
+        if i == ex:
+            continue
+        if vw[i] > v1:
+            v2 = v1
+            v1 = vw[i]
+            first = i
+        elif vw[i] > v2:
+            v2 = vw[i]
+    if first < 0 or v1 <= v2 * (1.0 + p.esp_reference_implausible_frac):
+        return -1
+    if abs_quiet_s is not None and abs_quiet_s[first] < p.esp_reference_braking_abs_quiet_time_s - 1e-9:
+        return -1
+    return first
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def braking_onset(ctl, p):
+    """True within ``reference_braking_onset_s`` of the brake-light switch coming on (always with the seeded defect
+    ``reference_braking_outlier_flag`` = 0): the 968b8ea braking test applies to every wheel there."""
+    return p.esp_reference_braking_outlier_flag < 0.5 or ctl[C_BRAKED_S] < p.esp_reference_braking_onset_s - 1e-9
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def plausible_reference(ctl, vw, braking, p, dt, a_x=0.0, abs_quiet_s=None, valve_quiet_s=None):
     """Wheel-signal plausibility of the reference speed (module doc, step 1): updates ``ctl[C_REF_EXCLUDED]`` and
     returns (max of the plausible wheels, True when the excluded wheel changed this period). ``a_x``: measured
     longitudinal acceleration; ``abs_quiet_s``: per wheel, time since its ABS mode was last other than OFF (None: all
-    quiet) - both used only by the braking test (``reference_braking_plausibility_flag``)."""
+    quiet); ``valve_quiet_s``: the same with its valve activity (A_VALVE_QUIET_S; None: all quiet) - all used only by
+    the braking test (``reference_braking_plausibility_flag``)."""
     ex = int(ctl[C_REF_EXCLUDED])
     changed = False
     if p.esp_reference_braking_plausibility_flag > 0.5 and braking and ctl[C_STARTED] > 0.5:
@@ -153,7 +191,18 @@ def plausible_reference(ctl, vw, braking, p, dt, a_x=0.0, abs_quiet_s=None):
         hi = ctl[C_V_REF] + (max(a_x, 0.0) + bc.RISE_MARGIN_MPS2) * dt
         fast = -1
         best = 0.0
-        if np.median(vw) > p.esp_abs_min_speed_mps:
+        if np.median(vw) > p.esp_abs_min_speed_mps and not braking_onset(ctl, p):
+            # past the pedal onset only a lone, valve-quiet fast wheel (braking_outlier) is judged (ice, a_x
+            # over-reading deceleration by 1.4 m/s^2: the reference drifted low, RL - released by the rear select-low,
+            # own ABS mode off - was the wheel nearest the car's speed and was left out; the other three locked 0.49 s)
+            cand = braking_outlier(vw, ex, valve_quiet_s, p)
+            if cand >= 0 and vw[cand] > hi * (1.0 + p.esp_reference_implausible_frac):
+                fast = cand
+        elif np.median(vw) > p.esp_abs_min_speed_mps:
+            # at the pedal onset (or always with reference_braking_outlier_flag = 0, the seeded defect: 968b8ea) any
+            # wheel ABS left alone: the reference was set by free-rolling wheels just before, it cannot have drifted
+            # low yet, but a tire blown within the unbraked persistence time may have lifted it and make the intact
+            # wheels' ABS hold, closing the blown rear's inlet through the select-low (F4b)
             for i in range(4):
                 quiet = abs_quiet_s is None or abs_quiet_s[i] >= p.esp_reference_braking_abs_quiet_time_s - 1e-9
                 if i != ex and quiet and vw[i] > hi * (1.0 + p.esp_reference_implausible_frac) and vw[i] / hi > best:
@@ -255,8 +304,9 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             wheels[i, A_VW_PREV] = v_max
         hst[hba.S_P_PREV] = meas.master_pressure_pa
     bls = meas.brake_light_switch_flag > 0.5
+    ctl[C_BRAKED_S] = ctl[C_BRAKED_S] + dt if bls else 0.0
     v_plaus, ref_changed = plausible_reference(ctl, vw_arr, bls, p, dt, meas.longitudinal_accel_mps2,
-                                               wheels[:, A_ABS_QUIET_S])
+                                               wheels[:, A_ABS_QUIET_S], wheels[:, A_VALVE_QUIET_S])
     decel = abs(min(meas.longitudinal_accel_mps2, 0.0)) + p.esp_reference_decel_margin_mps2
     if ref_changed:
         # the reference rode the implausible wheel: it restarts from the plausible ones (the accelerometer bound
@@ -267,7 +317,21 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         if p.esp_reference_braking_plausibility_flag > 0.5 and bls:
             # braking: the car cannot speed up faster than the accelerometer says (+ margin, as the blowout
             # compensation's reference); 0 = seeded defect (F4b: the reference rides a wheel blown just before the pedal)
-            v_ref = min(v_ref, ctl[C_V_REF] + (max(meas.longitudinal_accel_mps2, 0.0) + bc.RISE_MARGIN_MPS2) * dt)
+            v_cap = ctl[C_V_REF] + (max(meas.longitudinal_accel_mps2, 0.0) + bc.RISE_MARGIN_MPS2) * dt
+            if not braking_onset(ctl, p):
+                # past the pedal onset the bound holds back only a possible fast tire (braking_outlier) while its test
+                # persists: the other wheels lift the reference freely (a wheel coming back from a release, or several
+                # wheels together, show the car's speed: a reference drifted low must rise back to them)
+                ex_now = int(ctl[C_REF_EXCLUDED])
+                cand = braking_outlier(vw_arr, ex_now, wheels[:, A_VALVE_QUIET_S], p)
+                if cand >= 0:
+                    v_rest = 0.0
+                    for i in range(4):
+                        if i != ex_now and i != cand:
+                            v_rest = max(v_rest, vw_arr[i])
+                    v_ref = max(min(v_ref, v_cap), v_rest)
+            else:
+                v_ref = min(v_ref, v_cap)
     if blown >= 0:
         v_ref = v_ref_intact  # a blown wheel turns faster (smaller radius): the reference ignores it
     ctl[C_V_REF] = v_ref
@@ -474,6 +538,14 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             elif req == R_OFF or req == R_BUILD or req == R_GMA_PULSE:
                 req = R_GMA_HOLD  # at the other front's pressure: hold, circuit isolated
         wm = ARBITRATION[row, req] if abs_ok else W_N
+        if (i >= 2 and row == hba.ACTIVE and (wm == W_B or wm == W_BP) and blown < 0
+                and p.esp_hba_rear_select_low_flag > 0.5 and ctl[C_SOURCE_C1 + CIRCUIT[5 - i]] == SRC_PUMP
+                and wheels[i, A_P_EST] >= wheels[5 - i, A_P_EST] + RAMP_SETTLED_PA):
+            # rear select-low on pressure during the pump build: the X-split pumps a rear with its circuit's front, so
+            # on split-mu the high-mu rear of the low-mu front's circuit was pumped above the other rear (86-89 vs
+            # 65-75 bar at 80 km/h dry/wet) - a yaw moment no ABS rear has (its rears follow the more critical one);
+            # a rear builds only up to the other rear's pressure (estimate), then holds with the circuit isolated
+            wm = W_HI
         if (wm == W_BP and row == hba.ACTIVE and i < 2 and ctl[C_SOURCE_C1 + CIRCUIT[i]] == SRC_UNDECIDED
                 and p_mc - wheels[i, A_P_EST] > RAMP_SETTLED_PA and hst[hba.S_RATE] >= 0.0 and blown < 0
                 and p.esp_hba_master_rebuild_flag > 0.5):
@@ -533,7 +605,25 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                 # check valve would drain it into the master cylinder (plant/brakes/esp_unit.py), so hold it with
                 # the circuit isolated (HI) - what H/BPM did before the check valve was modelled (issue #9 review)
                 wm = W_HI
+        if abs_ok and int(bst[bc.S_REAPPLY]) == i and blow_req[i] == bc.Q_NONE:
+            # blowout compensation rejected its detection while the driver brakes (reject_reapply_flag): the wheel it had
+            # released gets the driver's pressure at once (inlet open, W_N) until the line model of its pressure
+            # (tau_line from the pressure at the rejection, the ECU's W_N estimate jumps to the source at once) reaches
+            # the pressure the other wheel of its axle carries (the driver's, as ABS lets it through), as without the
+            # function; then (or at an ABS dump of it) ABS as usual
+            if bst[bc.S_REAPPLY_P] < 0.0:
+                bst[bc.S_REAPPLY_P] = wheels[i, A_P_EST]
+            src_i = p_mc if i < 2 else _prop(p_mc, p)
+            if wm == W_D or bst[bc.S_REAPPLY_P] >= min(wheels[bc.OPPOSITE[i], A_P_EST], src_i) - 1.0e5:
+                bst[bc.S_REAPPLY] = -1.0
+            else:
+                wm = W_N
+                bst[bc.S_REAPPLY_P] += (src_i - bst[bc.S_REAPPLY_P]) * min(dt / p.esp_unit_line_time_constant_s, 1.0)
         wheels[i, A_WHEEL_MODE] = wm
+        # valve activity (inlet closed, outlet open, pulsed re-build) ends the wheel's valve-quiet time whatever its
+        # own ABS mode: a rear released by the select-low, or the GMA's wheel, recovers from below (braking_outlier)
+        quiet_v = (wm == W_N or wm == W_B or not abs_ok) and int(wheels[i, A_MODE]) == abs_fn.OFF
+        wheels[i, A_VALVE_QUIET_S] = wheels[i, A_VALVE_QUIET_S] + dt if quiet_v else 0.0
         src = p_mc if i < 2 else _prop(p_mc, p)
         wheels[i, A_P_EST] = _estimate(wm, wheels[i, A_P_EST], src, dt, p, wheels[i, A_INLET_OPEN_S])
         wheels[i, A_INLET_OPEN_S] = wheels[i, A_INLET_OPEN_S] + dt if (wm == W_B or wm == W_BP) else 0.0

@@ -123,6 +123,7 @@ class SedanEsp(Strict):
     yaw_dump_rate_deg_per_s: Annotated[float, Field(gt=0, le=180)]
     gma_hba_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: HBA pumps past the GMA)
     gma_follow_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (GMA wheel capped below the pumped other front)
+    hba_rear_select_low_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = old: rears pumped with their circuit's front
     hba_master_rebuild_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: pump re-build undecided)
     hba_rampout_pumped_only_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: ramp-out unpumped)
     abs_signal_filter_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (#10 F2: raw-differenced wheel decel)
@@ -134,6 +135,9 @@ class SedanEsp(Strict):
     # while braking: rise-bounded reference, a fast wheel without ABS activity left out; 0 = defect (F4b, frozen)
     reference_braking_plausibility_flag: Annotated[int, Field(ge=0, le=1)] = 1
     reference_braking_abs_quiet_time_s: Annotated[float, Field(gt=0, le=5)] = 0.3
+    # while braking only a lone valve-quiet fast wheel is bounded/left out; 0 = defect (968b8ea: any own-mode-quiet wheel)
+    reference_braking_outlier_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    reference_braking_onset_s: Annotated[float, Field(gt=0, le=5)] = 0.3
     plausibility_time_s: Annotated[float, Field(gt=0, le=5)]
     plausibility_pressure_bar: Annotated[float, Field(gt=0, le=50)]
 
@@ -210,8 +214,14 @@ class SedanBlowoutCompensation(Strict):
     brake_gain_tolerance_frac: Annotated[float, Field(ge=0, le=1)] = 0.18  # capacity rule judged at (1 + tol) x nominal pad friction (SAE J866 code F upper edge 0.45 / mu_b 0.38); 0 = defect
     spin_front_flag: Annotated[int, Field(ge=0, le=1)] = 1  # rear blowout beyond the stable region toward the blown side: front wheel braked instead of the rear; 0 = defect (refusal)
     yaw_net_flag: Annotated[int, Field(ge=0, le=1)] = 1  # yaw plausibility net of the released blown wheel's moment; 0 = defect (raw yaw)
+    tpms_confirm_flag: Annotated[int, Field(ge=0, le=1)] = 1  # TPMS-path detection confirmed by the released wheel; 0 = defect
+    reject_reapply_flag: Annotated[int, Field(ge=0, le=1)] = 1  # rejected while braking: released wheel re-applied at once; 0 = defect
     braking_rule_flag: Annotated[int, Field(ge=0, le=1)] = 1  # front blowout + braking driver: one rule for the compensating front wheel and the rear pair; 0 = defect (the rules before)
     braking_share_frac: Annotated[float, Field(ge=0, le=1)] = 1.0  # share of the driver's pressure on top of the drag balance (braking rule)
+    rear_circle_flag: Annotated[int, Field(ge=0, le=1)] = 1  # braking rule: rear pair capped at its friction circle (not the linear region) at the measured friction; 0 = defect
+    phase_plane_flag: Annotated[int, Field(ge=0, le=1)] = 1  # spin-front rule also triggered by the sideslip phase plane |beta_dot + B1*beta| > B2 (Inagaki et al. 1994); 0 = defect (mu-0.8 bounds only)
+    phase_plane_b1_per_s: Annotated[float, Field(gt=0, le=20)] = 2.49  # Inagaki, Kushiro, Yamamoto (AVEC 1994 / JSAE Review 1995), dry-road boundary slope
+    phase_plane_b2_deg_per_s: Annotated[float, Field(gt=0, le=90)] = 9.55  # same source, dry-road boundary intercept
 
     @model_validator(mode="after")
     def _order(self):
