@@ -852,13 +852,25 @@ def _plan(st, b, target, limited, slip_mean, a_x, a_y, p_est, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def spin_front_applies(b, tg, yaw_rate_meas, inlet_ok, p):
+def spin_front_applies(b, tg, yaw_rate_meas, code, beta_est, beta_dot, inlet_ok, p):
     """``spin_front_flag`` (0 = seeded defect = refuse): a REAR blown wheel compensated on the rear axle, the measured
     yaw rate toward the blown side (the spin the flat rear tire starts) and the front wheel of the compensating side
-    healthy."""
+    healthy. A trigger from the sideslip (``code`` = LIMIT_SIDESLIP_BOUND, or the phase plane) must also be the slide
+    of that spin: in a spin toward the blown side the heading turns past the velocity, so beta and beta_dot + B1*beta
+    point away from the blown side; pointing toward it they are the slide of the opposite rotation (the nose already
+    right of the path for a left-blown wheel), which braking this front wheel would deepen (independent review V:
+    RL, 60 km/h, r = 0.01 rad/s CCW, a_y = +5 m/s^2 moved the brake to FR at once; tests/functions/
+    test_blowout_spin_front_sign.py)."""
     if p.blowout_compensation_spin_front_flag < 0.5 or b < 2 or tg < 2:
         return False
-    return toward_blown_side(b, yaw_rate_meas) > 0.0 and inlet_ok[_substitute(b)] > 0.5
+    if not (toward_blown_side(b, yaw_rate_meas) > 0.0 and inlet_ok[_substitute(b)] > 0.5):
+        return False
+    if code == LIMIT_YAW_BOUND:
+        return True
+    if code == LIMIT_SIDESLIP_BOUND and toward_blown_side(b, beta_est) < 0.0:
+        return True
+    return phase_plane_unstable(beta_est, beta_dot, p) and toward_blown_side(
+        b, beta_dot + p.blowout_compensation_phase_plane_b1_per_s * beta_est) < 0.0
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -973,7 +985,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             code = unstable_code(yaw_rate_meas, 0.0, v_ref, p)
             b_dot = a_y_meas / v_ref - yaw_rate_meas if v_ref > 1.0 else 0.0
             spin = code != LIMIT_NONE or phase_plane_unstable(0.0, b_dot, p)  # phase_plane_flag: the spin-front trigger
-            if spin and new == BUILD and spin_front_applies(b, target, yaw_rate_meas, inlet_ok, p):
+            if spin and new == BUILD and spin_front_applies(b, target, yaw_rate_meas, code, 0.0, b_dot, inlet_ok, p):
                 # already beyond the stable region rotating toward the blown side (rear blowout): the front wheel of the
                 # compensating side instead (spin_front_flag), as from BUILD/HOLD below
                 sub = _substitute(b)
@@ -1055,7 +1067,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_CLEAR_S] = 0.0
             st[S_SUSPECT] = -1.0
             st[S_SUSPECT_S] = 0.0
-        elif spin and mode != LIMITED and spin_front_applies(b, tg, yaw_rate_meas, inlet_ok, p):
+        elif spin and mode != LIMITED and spin_front_applies(b, tg, yaw_rate_meas, code, st[S_BETA_EST], b_dot,
+                                                             inlet_ok, p):
             # rear blowout, beyond the stable region, rotating toward the blown side: stop loading the rear axle and
             # brake the front wheel of the same side instead (spin_front_flag; module doc)
             sub = _substitute(b)
