@@ -85,7 +85,7 @@ compensated on the rear axle whose car is beyond those bounds rotating TOWARD th
 tire starts) goes to LIMITED (same guard, limit code 5) instead of REFUSED: the rear compensating wheel is released (its
 brake force takes friction circle from the axle that already lost the flat tire's lateral force) and the front wheel of
 the same side - the outer front wheel of the spin - is braked to the ECU's lock estimate mu*F'_z*R/K_b, ABS guarding
-it, as an ESP's oversteer intervention (Bosch Automotive Handbook, ESP; van Zanten, SAE 2000-01-0443): its brake
+it, as an ESP's oversteer intervention (Bosch Automotive Handbook, ESP; van Zanten, SAE 2000-01-1633): its brake
 moment opposes the spin and its lost lateral force understeers. The tire-capacity limit does not apply to it; it is
 dumped while the car turns back away from the blown side faster than the ESP's yaw dump rate; not refused while the
 spin lasts (the ESP's GMA does not delay it, functions/esp.py). Front blowouts and rotation away from the blown side:
