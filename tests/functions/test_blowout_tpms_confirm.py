@@ -33,7 +33,7 @@ import pytest
 import vehicle_assist as va
 
 LANE_MARGIN_M = 0.978  # metrics/blowout.py LANE_MARGIN_M (the false-detection bound, issue #10)
-WHEEL_INDEX = {"FL": 1.0, "RL": 3.0}  # tpms_alarm_wheel bias: 1..4 = fl, fr, rl, rr
+WHEEL_INDEX = {"FL": 1.0, "RL": 3.0, "RR": 4.0}  # tpms_alarm_wheel bias: 1..4 = fl, fr, rl, rr
 
 
 def _run(wheel, pedal_frac, speed_kph, sets=()):
@@ -52,7 +52,10 @@ def _run(wheel, pedal_frac, speed_kph, sets=()):
 
 CASES = [("FL", 0.08, 100), ("FL", 0.08, 120), ("RL", 0.08, 100), ("RL", 0.08, 120),
          ("FL", 0.5, 100), ("FL", 0.5, 120),
-         ("RL", 0.5, 100), ("RL", 0.5, 120)]
+         ("RL", 0.5, 100), ("RL", 0.5, 120),
+         # rear pair rule across pedal / speed / side (sweep 60-140 km/h x 20-100 % pedal, RL and RR: fix <= 0.61 m,
+         # defect up to 2.75 m; measured fix / defect): 0.23 / 1.79, 0.61 / 1.28, 0.14 / 2.19, 0.15 / 2.06 m
+         ("RL", 0.35, 120), ("RL", 0.8, 120), ("RL", 1.0, 140), ("RR", 0.5, 120)]
 
 
 @pytest.mark.parametrize("wheel,pedal_frac,speed_kph", CASES)
@@ -65,9 +68,11 @@ def test_false_tpms_alarm_braking_stays_in_lane(wheel, pedal_frac, speed_kph):
 @pytest.mark.parametrize("wheel,pedal_frac,speed_kph,flag", [
     ("RL", 0.08, 100, "tpms_confirm_flag"), ("RL", 0.08, 120, "tpms_confirm_flag"),
     ("FL", 0.5, 100, "reject_reapply_flag"), ("FL", 0.5, 120, "reject_reapply_flag"),
-    ("RL", 0.5, 100, "reject_pair_low_flag"), ("RL", 0.5, 120, "reject_pair_low_flag")])
+    ("RL", 0.5, 100, "reject_pair_low_flag"), ("RL", 0.5, 120, "reject_pair_low_flag"),
+    ("RL", 0.35, 120, "reject_pair_low_flag"), ("RR", 0.5, 120, "reject_pair_low_flag")])
 def test_false_tpms_alarm_braking_leaves_lane_with_the_defect(wheel, pedal_frac, speed_kph, flag):
     """Negative control: the seeded defect (the flag 0 = the code before) takes the same case out of the lane
-    (measured: RL 80 N 1.76 / 2.55 m; FL 500 N 1.33 / 2.28 m; RL 500 N 1.29 / 2.06 m)."""
+    (measured: RL 80 N 1.76 / 2.55 m; FL 500 N 1.33 / 2.28 m; RL 500 N 1.29 / 2.06 m; RL 350 N 120 km/h 1.79 m;
+    RR 500 N 120 km/h 2.06 m)."""
     dev, _ = _run(wheel, pedal_frac, speed_kph, (f"vehicle.blowout_compensation.{flag}=0",))
     assert dev > LANE_MARGIN_M
