@@ -69,6 +69,11 @@ held under the rear slip limit): 1.76 / 2.55 m at 100 / 120 km/h -> 0.015 / 0.02
 After a rejection while braking the released wheel gets the driver's pressure back at once (``reject_reapply_flag``,
 S_REAPPLY, functions/esp.py) up to the same-axle wheel's pressure: ABS had re-built it in pulses (front) or the rear
 select-low held it low (false FL / RL alarm under 500 N at 100 km/h: 1.33 / 2.57 -> 0.54 / 0.87 m).
+After a rear wheel's rejection while braking, until the brake is released (``reject_pair_low_flag``, S_PAIR_LOW,
+functions/esp.py): the re-applied rear's ECU estimate is the re-apply's line model, and the rear select-low acts on the
+pair's pressure (the higher rear dumped to the lower one's): ABS had dumped the pair before the line filled the
+re-applied rear (35 of 81 bar) and the select-low then kept RL 25-35 bar below RR (false RL alarm, 500 N, 100 / 120 km/h:
+1.29 / 2.06 -> 0.19 / 0.16 m).
 REJECTED -> IDLE (signature_cleared): no candidate on the rejected wheel for ``detection_delay_s``.
 REJECTED -> BUILD / LIMITED: a blowout found on another wheel (same guards as from IDLE).
 HOLD/LIMITED -> ENDED (vehicle_slow): reference speed below the minimum speed: compensation over; a real blown
