@@ -357,6 +357,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     # wheels go back to the driver (a release at v_ref = V_min locked wheels at up to 5.2 km/h: issue #9 review).
     v_cut = p.esp_abs_min_speed_mps * (1.0 - p.esp_abs_dump_slip_frac)
     abs_allowed = abs_ok and bls and v_ref > v_cut
+    if not bls:
+        bst[bc.S_PAIR_LOW] = 0.0  # the pair rule after a rear rejection lasts until the brake is released
     comp_wheel = int(bst[bc.S_TARGET]) if int(bst[bc.S_MODE]) != bc.IDLE else -1  # blowout compensation brakes it
     filt = p.esp_abs_signal_filter_flag > 0.5
     for i in range(4):
@@ -613,6 +615,11 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             else:
                 wm = W_N
                 bst[bc.S_REAPPLY_P] += (src_i - bst[bc.S_REAPPLY_P]) * min(dt / p.esp_unit_line_time_constant_s, 1.0)
+        if (abs_ok and i >= 2 and bst[bc.S_PAIR_LOW] > 0.5 and int(bst[bc.S_REAPPLY]) < 0
+                and wheels[i, A_P_EST] > wheels[5 - i, A_P_EST] + 1.0e5):
+            # rear rejected while braking (reject_pair_low_flag), its re-apply over: select-low on the pair's pressure -
+            # the higher rear down to the lower one's (both rears carry the lower wheel's pressure: no rear yaw moment)
+            wm = W_D
         wheels[i, A_WHEEL_MODE] = wm
         # valve activity (inlet closed, outlet open, pulsed re-build) ends the wheel's valve-quiet time whatever its
         # own ABS mode: a rear released by the select-low, or the GMA's wheel, recovers from below (braking_outlier)
@@ -620,6 +627,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         wheels[i, A_VALVE_QUIET_S] = wheels[i, A_VALVE_QUIET_S] + dt if quiet_v else 0.0
         src = p_mc if i < 2 else _prop(p_mc, p)
         wheels[i, A_P_EST] = _estimate(wm, wheels[i, A_P_EST], src, dt, p, wheels[i, A_INLET_OPEN_S])
+        if i >= 2 and bst[bc.S_PAIR_LOW] > 0.5 and int(bst[bc.S_REAPPLY]) == i and wm == W_N:
+            # (reject_pair_low_flag) the re-applied rear's estimate is the re-apply's line model, not the source W_N's
+            # estimate jumps to: ABS may dump the pair before the line has filled it (35 bar of 81, 120 km/h 500 N)
+            wheels[i, A_P_EST] = bst[bc.S_REAPPLY_P]
         wheels[i, A_INLET_OPEN_S] = wheels[i, A_INLET_OPEN_S] + dt if (wm == W_B or wm == W_BP) else 0.0
     return n_events
 
