@@ -421,7 +421,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     blk = int(ctl[C_GMA_BLOCK]) - 1
     act0 = wheels[0, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 0
     act1 = wheels[1, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 1
-    if act0 != act1 and ctl[C_GMA_WHEEL] < 0.0 and abs_allowed:
+    spin_front = tgt if (0 <= tgt < 2 and bst[bc.S_LIMIT_CODE] == bc.LIMIT_SPIN_FRONT) else -1
+    if act0 != act1 and ctl[C_GMA_WHEEL] < 0.0 and abs_allowed and (1 if act0 else 0) != spin_front:
+        # (never on the spin-front wheel: ended above, it was re-armed here in the same period, its start reset
+        # every period, while the other front's ABS was active - the stability brake pulsed for the whole spin)
         ctl[C_GMA_START] = t
         ctl[C_GMA_WHEEL] = 1.0 if act0 else 0.0  # the other (high-mu) front wheel is delayed
     if not abs_allowed:
