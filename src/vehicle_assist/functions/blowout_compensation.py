@@ -69,6 +69,11 @@ held under the rear slip limit): 1.76 / 2.55 m at 100 / 120 km/h -> 0.015 / 0.02
 After a rejection while braking the released wheel gets the driver's pressure back at once (``reject_reapply_flag``,
 S_REAPPLY, functions/esp.py) up to the same-axle wheel's pressure: ABS had re-built it in pulses (front) or the rear
 select-low held it low (false FL / RL alarm under 500 N at 100 km/h: 1.33 / 2.57 -> 0.54 / 0.87 m).
+After a rear wheel's rejection while braking, until the brake is released (``reject_pair_low_flag``, S_PAIR_LOW,
+functions/esp.py): the re-applied rear's ECU estimate is the re-apply's line model, and the rear select-low acts on the
+pair's pressure (the higher rear dumped to the lower one's): ABS had dumped the pair before the line filled the
+re-applied rear (35 of 81 bar) and the select-low then kept RL 25-35 bar below RR (false RL alarm, 500 N, 100 / 120 km/h:
+1.29 / 2.06 -> 0.19 / 0.16 m).
 REJECTED -> IDLE (signature_cleared): no candidate on the rejected wheel for ``detection_delay_s``.
 REJECTED -> BUILD / LIMITED: a blowout found on another wheel (same guards as from IDLE).
 HOLD/LIMITED -> ENDED (vehicle_slow): reference speed below the minimum speed: compensation over; a real blown
@@ -223,7 +228,10 @@ S_HEALTHY_S = S_P_PREDUMP + 1
 # given the driver's pressure back at once up to the same-axle wheel's pressure (functions/esp.py); -1 none
 S_REAPPLY = S_HEALTHY_S + 1
 S_REAPPLY_P = S_REAPPLY + 1  # the ECU's line model of that wheel's pressure during the re-apply [Pa] (-1 = not started)
-STATE_SIZE = S_REAPPLY_P + 1
+# rear select-low on the pair's pressure after a rear wheel's rejection while braking (``reject_pair_low_flag``,
+# functions/esp.py): 1 until the brake is released, 0 otherwise
+S_PAIR_LOW = S_REAPPLY_P + 1
+STATE_SIZE = S_PAIR_LOW + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -979,6 +987,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_R_OWN] = 0.0
             st[S_OVERSPEED_S] = 0.0
             st[S_REAPPLY] = -1.0
+            st[S_PAIR_LOW] = 0.0
             # TPMS path (single source, braking): confirmation by the released wheel pending (tpms_confirm_flag)
             st[S_HEALTHY_S] = 0.0 if (sources == SRC_TPMS and braking > 0.5
                                       and p.blowout_compensation_tpms_confirm_flag > 0.5) else -1.0
@@ -1059,6 +1068,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             healthy = wheel_speed_mean(st, b) <= v_ref * (1.0 + p.blowout_compensation_wheel_speed_threshold_frac)
             st[S_REAPPLY] = b if (braking > 0.5 and healthy and p.blowout_compensation_reject_reapply_flag > 0.5) else -1.0
             st[S_REAPPLY_P] = -1.0
+            st[S_PAIR_LOW] = 1.0 if (st[S_REAPPLY] >= 2.0 and p.blowout_compensation_reject_pair_low_flag > 0.5) else 0.0
             mode = REJECTED
             st[S_REJECTED] = b
             st[S_BLOWN] = -1.0  # latch cleared: no wheel is held released any more, ABS/HBA run as without the function

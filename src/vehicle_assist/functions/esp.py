@@ -357,6 +357,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     # wheels go back to the driver (a release at v_ref = V_min locked wheels at up to 5.2 km/h: issue #9 review).
     v_cut = p.esp_abs_min_speed_mps * (1.0 - p.esp_abs_dump_slip_frac)
     abs_allowed = abs_ok and bls and v_ref > v_cut
+    if not bls:
+        bst[bc.S_PAIR_LOW] = 0.0  # the pair rule after a rear rejection lasts until the brake is released
     comp_wheel = int(bst[bc.S_TARGET]) if int(bst[bc.S_MODE]) != bc.IDLE else -1  # blowout compensation brakes it
     filt = p.esp_abs_signal_filter_flag > 0.5
     for i in range(4):
@@ -425,7 +427,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     blk = int(ctl[C_GMA_BLOCK]) - 1
     act0 = wheels[0, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 0
     act1 = wheels[1, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 1
-    if act0 != act1 and ctl[C_GMA_WHEEL] < 0.0 and abs_allowed:
+    spin_front = tgt if (0 <= tgt < 2 and bst[bc.S_LIMIT_CODE] == bc.LIMIT_SPIN_FRONT) else -1
+    if act0 != act1 and ctl[C_GMA_WHEEL] < 0.0 and abs_allowed and (1 if act0 else 0) != spin_front:
+        # (never on the spin-front wheel: ended above, it was re-armed here in the same period, its start reset
+        # every period, while the other front's ABS was active - the stability brake pulsed for the whole spin)
         ctl[C_GMA_START] = t
         ctl[C_GMA_WHEEL] = 1.0 if act0 else 0.0  # the other (high-mu) front wheel is delayed
     if not abs_allowed:
@@ -619,6 +624,11 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             else:
                 wm = W_N
                 bst[bc.S_REAPPLY_P] += (src_i - bst[bc.S_REAPPLY_P]) * min(dt / p.esp_unit_line_time_constant_s, 1.0)
+        if (abs_ok and i >= 2 and bst[bc.S_PAIR_LOW] > 0.5 and int(bst[bc.S_REAPPLY]) < 0
+                and wheels[i, A_P_EST] > wheels[5 - i, A_P_EST] + 1.0e5):
+            # rear rejected while braking (reject_pair_low_flag), its re-apply over: select-low on the pair's pressure -
+            # the higher rear down to the lower one's (both rears carry the lower wheel's pressure: no rear yaw moment)
+            wm = W_D
         wheels[i, A_WHEEL_MODE] = wm
         # valve activity (inlet closed, outlet open, pulsed re-build) ends the wheel's valve-quiet time whatever its
         # own ABS mode: a rear released by the select-low, or the GMA's wheel, recovers from below (braking_outlier)
@@ -626,6 +636,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         wheels[i, A_VALVE_QUIET_S] = wheels[i, A_VALVE_QUIET_S] + dt if quiet_v else 0.0
         src = p_mc if i < 2 else _prop(p_mc, p)
         wheels[i, A_P_EST] = _estimate(wm, wheels[i, A_P_EST], src, dt, p, wheels[i, A_INLET_OPEN_S])
+        if i >= 2 and bst[bc.S_PAIR_LOW] > 0.5 and int(bst[bc.S_REAPPLY]) == i and wm == W_N:
+            # (reject_pair_low_flag) the re-applied rear's estimate is the re-apply's line model, not the source W_N's
+            # estimate jumps to: ABS may dump the pair before the line has filled it (35 bar of 81, 120 km/h 500 N)
+            wheels[i, A_P_EST] = bst[bc.S_REAPPLY_P]
         wheels[i, A_INLET_OPEN_S] = wheels[i, A_INLET_OPEN_S] + dt if (wm == W_B or wm == W_BP) else 0.0
     return n_events
 
