@@ -381,8 +381,11 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                                       p.esp_abs_idle_time_s,
                                       abs_fn.TABLE, abs_guards)
         if (new == abs_fn.DUMP and mode != abs_fn.DUMP and i == comp_wheel
-                and p.blowout_compensation_braking_rule_flag > 0.5):
-            bst[bc.S_P_PREDUMP] = wheels[i, A_P_EST]  # braking rule: the re-build after this dump goes back to here
+                and p.blowout_compensation_braking_rule_flag > 0.5
+                and (slip > p.esp_abs_hold_slip_frac or p.blowout_compensation_predump_slip_flag < 0.5)):
+            # braking rule: the re-build after this dump goes back to here - only a dump with slip evidence marks the
+            # lock level (predump_slip_flag: a noise-triggered deceleration dump at 2.8 % slip latched 31 of 64 bar)
+            bst[bc.S_P_PREDUMP] = wheels[i, A_P_EST]
         if new != mode:
             if wheels[i, A_LOGGED] < ABS_LOG_CAP:
                 n_events = log_event(events, n_events, t, m_abs0 + i, mode, new, reason)
