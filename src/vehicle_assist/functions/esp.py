@@ -381,8 +381,11 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                                       p.esp_abs_idle_time_s,
                                       abs_fn.TABLE, abs_guards)
         if (new == abs_fn.DUMP and mode != abs_fn.DUMP and i == comp_wheel
-                and p.blowout_compensation_braking_rule_flag > 0.5):
-            bst[bc.S_P_PREDUMP] = wheels[i, A_P_EST]  # braking rule: the re-build after this dump goes back to here
+                and p.blowout_compensation_braking_rule_flag > 0.5
+                and (slip > p.esp_abs_hold_slip_frac or p.blowout_compensation_predump_slip_flag < 0.5)):
+            # braking rule: the re-build after this dump goes back to here - only a dump with slip evidence marks the
+            # lock level (predump_slip_flag: a noise-triggered deceleration dump at 2.8 % slip latched 31 of 64 bar)
+            bst[bc.S_P_PREDUMP] = wheels[i, A_P_EST]
         elif (new == abs_fn.OFF and mode != abs_fn.OFF and i == comp_wheel
               and p.blowout_compensation_braking_rule_flag > 0.5):
             # ABS let the wheel go (build_idle: no hold/dump for abs_idle_time_s), so the dump's pressure is no lock
@@ -421,12 +424,21 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # the spin-front wheel (blowout_compensation spin_front_flag) is the car's yaw-stability brake, not the
             # high-mu side of a split-mu stop: the GMA's delay of it is ended
             ctl[C_GMA_WHEEL] = -1.0
+        if (p.blowout_compensation_gma_blown_front_flag > 0.5 and int(ctl[C_GMA_WHEEL]) == tgt
+                and 0 <= blown < 2 and blown != tgt):
+            # (gma_blown_front_flag) a GMA on the compensating front started by the blown front's activity: ended
+            ctl[C_GMA_WHEEL] = -1.0
         ctl[C_GMA_BLOCK] = tgt + 1.0
     elif ctl[C_GMA_BLOCK] > 0.5 and int(wheels[int(ctl[C_GMA_BLOCK]) - 1, A_MODE]) == abs_fn.OFF:
         ctl[C_GMA_BLOCK] = 0.0
     blk = int(ctl[C_GMA_BLOCK]) - 1
-    act0 = wheels[0, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 0
-    act1 = wheels[1, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 1
+    # (gma_blown_front_flag) the blown front released by a compensation on the other front: its ABS hold/dump activity
+    # is the flat tire's / the release's, not a split-mu road's - it does not start the GMA on the compensating wheel
+    # (the GMA held that wheel at ~10 bar against the braking rule's 65 bar, findings_F.md Q4)
+    blk_b = blown if (0 <= tgt < 2 and 0 <= blown < 2 and blown != tgt
+                      and p.blowout_compensation_gma_blown_front_flag > 0.5) else -1
+    act0 = wheels[0, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 0 and blk_b != 0
+    act1 = wheels[1, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 1 and blk_b != 1
     spin_front = tgt if (0 <= tgt < 2 and bst[bc.S_LIMIT_CODE] == bc.LIMIT_SPIN_FRONT) else -1
     if act0 != act1 and ctl[C_GMA_WHEEL] < 0.0 and abs_allowed and (1 if act0 else 0) != spin_front:
         # (never on the spin-front wheel: ended above, it was re-armed here in the same period, its start reset
