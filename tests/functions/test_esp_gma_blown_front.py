@@ -127,9 +127,13 @@ def test_falsifier_point_53_no_worse_than_none(none_53):
     assert _dev(1) <= none_53
 
 
-def test_falsifier_point_53_worse_than_none_with_the_defect(none_53):
-    # measured: 11.59 m vs none 9.45 m
-    assert _dev(0) > none_53
+def test_falsifier_point_53_worse_with_the_defect():
+    """Negative control at the run level. Measured at 5897ecd: 11.59 m with the defect vs none 9.45 m. Since the
+    review's fix 595b681 (the braking rule's pre-dump ceiling is cleared when ABS lets the wheel go; no flag, a
+    correction) the defect alone no longer takes this point past the no-compensation twin (5.38 m vs 9.45 m), so the
+    run-level control compares with the fixed run (1.11 m): the GMA armed by the blown front still costs the run. The
+    discriminating checks of the rule itself are the unit tests above (GMA request on the compensating wheel)."""
+    assert _dev(0) > _dev(1)
 
 
 # lead falsifier random seed 41 budget 512 at main 0adb7a2, history index 98 (findings_F.md Q4): FR blowout, pedal
