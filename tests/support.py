@@ -98,3 +98,48 @@ def ecu_pressure_estimates(params, modes, p0: float = 0.0, dt: float = 0.005) ->
         open_s = open_s + dt if wm in (esp.W_B, esp.W_BP) else 0.0
         out.append(p)
     return out
+
+
+def esp_ecu(p, v_mps: float, p_mc_pa: float, settle_periods: int = 20) -> dict:
+    """An ESP controller (functions/esp.py) on its own, all four wheels rolling free at ``v_mps``, the driver's master
+    pressure ``p_mc_pa`` with the brake light on, every sensor and valve healthy, settled for ``settle_periods`` ESP
+    periods (reference, pressure estimates at the driver's); step it with ``esp_ecu_step``."""
+    import numpy as np
+
+    from vehicle_assist.core.fsm import EVENT_FIELDS
+    from vehicle_assist.vehicles import sedan_esp as se
+
+    meas, ctl, wheels, hst, bst, _ = se.controller_states()
+    r_w = p.body_wheel_radius_m
+    for n in ("fl", "fr", "rl", "rr"):
+        setattr(meas, f"wheel_speed_{n}_radps", v_mps / r_w)
+        setattr(meas, f"wheel_speed_{n}_ok", 1.0)
+        setattr(meas, f"inlet_valve_{n}_ok", 1.0)
+    meas.master_pressure_pa = p_mc_pa
+    meas.master_pressure_ok = 1.0
+    meas.brake_light_switch_flag = 1.0
+    meas.esp_valves_ok = 1.0
+    meas.return_pump_ok = 1.0
+    e = {"meas": meas, "ctl": ctl, "wheels": wheels, "hst": hst, "bst": bst, "t": 0.0, "n": np.int64(0),
+         "events": np.zeros((512, EVENT_FIELDS)), "ag": np.zeros(6, dtype=np.bool_), "hg": np.zeros(8, dtype=np.bool_)}
+    for _ in range(settle_periods):
+        esp_ecu_step(e, p)
+    return e
+
+
+def esp_ecu_step(e: dict, p) -> None:
+    """One ESP period of the controller built by ``esp_ecu`` (machine ids as the sedan_esp runner)."""
+    from vehicle_assist.functions import esp
+
+    e["n"] = esp.esp_step(e["ctl"], e["wheels"], e["hst"], e["meas"], p, p.esp_period_s, e["t"], 1, 5, e["events"],
+                          e["n"], e["ag"], e["hg"], e["bst"], 6)
+    e["t"] += p.esp_period_s
+
+
+def envelope_point_metric(env, point: dict, metric: str, baseline: bool = False, sets=()) -> float:
+    """``metric`` of the envelope point ``point`` (a falsify.json history point), the envelope's baseline twin with
+    ``baseline``, extra overrides ``sets`` (e.g. a seeded defect)."""
+    import vehicle_assist as va
+
+    sc = env.scenario(point, baseline=baseline)
+    return va.simulate(sc.with_sets(*sets) if sets else sc, requirements=False).metrics[metric]

@@ -16,16 +16,14 @@ braking rule's 65 bar, and the first ABS dump latched those 10 bar as the re-bui
 """
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
 import vehicle_assist as va
-from vehicle_assist.core.fsm import EVENT_FIELDS
+from tests.support import esp_ecu, esp_ecu_step
 from vehicle_assist.functions import blowout_compensation as bc
 from vehicle_assist.functions import esp
 from vehicle_assist.scenarios.runner import pack_records
 from vehicle_assist.verification.envelope import load_envelope
-from vehicle_assist.vehicles import sedan_esp as se
 
 V_MPS = 19.0  # car speed (68 km/h), all four wheels rolling free
 P_MC_PA = 100.0e5  # driver's master pressure
@@ -48,28 +46,10 @@ def _params(flag: int):
 
 
 def _ecu(p):
-    meas, ctl, wheels, hst, bst, _ = se.controller_states()
-    r_w = p.body_wheel_radius_m
-    for n in ("fl", "fr", "rl", "rr"):
-        setattr(meas, f"wheel_speed_{n}_radps", V_MPS / r_w)
-        setattr(meas, f"wheel_speed_{n}_ok", 1.0)
-        setattr(meas, f"inlet_valve_{n}_ok", 1.0)
-    meas.master_pressure_pa = P_MC_PA
-    meas.master_pressure_ok = 1.0
-    meas.brake_light_switch_flag = 1.0
-    meas.esp_valves_ok = 1.0
-    meas.return_pump_ok = 1.0
-    e = {"meas": meas, "ctl": ctl, "wheels": wheels, "hst": hst, "bst": bst, "t": 0.0, "n": np.int64(0),
-         "events": np.zeros((512, EVENT_FIELDS)), "ag": np.zeros(6, dtype=np.bool_), "hg": np.zeros(8, dtype=np.bool_)}
-    for _ in range(20):
-        _step(e, p)
-    return e
+    return esp_ecu(p, V_MPS, P_MC_PA)
 
 
-def _step(e, p):
-    e["n"] = esp.esp_step(e["ctl"], e["wheels"], e["hst"], e["meas"], p, p.esp_period_s, e["t"], 1, 5, e["events"],
-                          e["n"], e["ag"], e["hg"], e["bst"], 6)
-    e["t"] += p.esp_period_s
+_step = esp_ecu_step
 
 
 def _fl_under_gma(p, armed_before: bool, periods: int = 10):

@@ -14,15 +14,13 @@ the GMA itself still arms on the other front.
 """
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
 import vehicle_assist as va
-from vehicle_assist.core.fsm import EVENT_FIELDS
+from tests.support import esp_ecu, esp_ecu_step
 from vehicle_assist.functions import blowout_compensation as bc
 from vehicle_assist.functions import esp
 from vehicle_assist.scenarios.runner import pack_records
-from vehicle_assist.vehicles import sedan_esp as se
 
 V_MPS = 25.0  # car speed (90 km/h), all four wheels rolling free
 P_MC_PA = 30.0e5  # driver's master pressure (a light stop)
@@ -34,28 +32,10 @@ def params():
 
 
 def _ecu(p):
-    meas, ctl, wheels, hst, bst, _ = se.controller_states()
-    r_w = p.body_wheel_radius_m
-    for n in ("fl", "fr", "rl", "rr"):
-        setattr(meas, f"wheel_speed_{n}_radps", V_MPS / r_w)
-        setattr(meas, f"wheel_speed_{n}_ok", 1.0)
-        setattr(meas, f"inlet_valve_{n}_ok", 1.0)
-    meas.master_pressure_pa = P_MC_PA
-    meas.master_pressure_ok = 1.0
-    meas.brake_light_switch_flag = 1.0
-    meas.esp_valves_ok = 1.0
-    meas.return_pump_ok = 1.0
-    e = {"meas": meas, "ctl": ctl, "wheels": wheels, "hst": hst, "bst": bst, "t": 0.0, "n": np.int64(0),
-         "events": np.zeros((512, EVENT_FIELDS)), "ag": np.zeros(6, dtype=np.bool_), "hg": np.zeros(8, dtype=np.bool_)}
-    for _ in range(20):  # settle: reference, pressure estimates at the driver's
-        _step(e, p)
-    return e
+    return esp_ecu(p, V_MPS, P_MC_PA)
 
 
-def _step(e, p):
-    e["n"] = esp.esp_step(e["ctl"], e["wheels"], e["hst"], e["meas"], p, p.esp_period_s, e["t"], 1, 5, e["events"],
-                          e["n"], e["ag"], e["hg"], e["bst"], 6)
-    e["t"] += p.esp_period_s
+_step = esp_ecu_step
 
 
 def _requests_of_fr(p, spin_front: bool, periods: int = 10):

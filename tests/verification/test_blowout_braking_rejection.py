@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import pytest
 
-import vehicle_assist as va
+from tests.support import envelope_point_metric
 from vehicle_assist.verification.envelope import load_envelope
 
 METRIC = "blowout_lateral_deviation_run_max_m"
@@ -56,8 +56,7 @@ def env():
 
 
 def _dev(env, point, baseline=False, sets=()):
-    sc = env.scenario(point, baseline=baseline)
-    return va.simulate(sc.with_sets(*sets) if sets else sc, requirements=False).metrics[METRIC]
+    return envelope_point_metric(env, point, METRIC, baseline, sets)
 
 
 def test_rl_blowout_braking_not_rejected_into_worse(env):

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import pytest
 
-import vehicle_assist as va
+from tests.support import envelope_point_metric
 from vehicle_assist.verification.envelope import load_envelope
 
 METRIC = "blowout_lateral_deviation_run_max_m"
@@ -41,8 +41,7 @@ def env():
 
 
 def _dev(env, point, baseline=False, sets=()):
-    sc = env.scenario(point, baseline=baseline)
-    return va.simulate(sc.with_sets(*sets) if sets else sc, requirements=False).metrics[METRIC]
+    return envelope_point_metric(env, point, METRIC, baseline, sets)
 
 
 @pytest.fixture(scope="module", params=list(CASES), ids=list(CASES))

@@ -523,13 +523,11 @@ def rear_linear_limit_mu(target, fz_straight_n, a_y, mu, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def wheel_linear_limit_mu(i, fz_straight_n, a_y, mu, blown, p):
-    """(brake force [N], slip) up to which intact wheel ``i`` (front or rear) stays in the Dugoff linear region while
-    carrying its share of its axle's lateral force for a_y (``braking_rule``; ``rear_linear_limit_mu`` for any wheel):
-    load = its straight-driving load -+ the axle's lateral load transfer m*a_y*h*l_o/(B*l) (spec eqs. 3-4, l_o = the
-    other axle's distance to the CG), axle lateral force m*|a_y|*l_o/l shared by cornering stiffness with the other
-    wheel of the axle (the flat tire ``blown`` k_Cy*C_y, an intact one C_y), then the f(H) >= 1 - s boundary
-    (``linear_slip_limit_frac``)."""
+def wheel_load_and_lateral_n(i, fz_straight_n, a_y, blown, p):
+    """(F_z [N], F_y [N]) of intact wheel ``i`` in a steady turn at a_y: its straight-driving load -+ the axle's lateral
+    load transfer m*a_y*h*l_o/(B*l) (spec eqs. 3-4, l_o = the other axle's distance to the CG) and its share of the
+    axle's lateral force m*|a_y|*l_o/l, shared by cornering stiffness with the other wheel of the axle (the flat tire
+    ``blown`` k_Cy*C_y, an intact one C_y)."""
     l = p.chassis_wheelbase_m
     l_f = p.chassis_cg_to_front_axle_m
     m = p.body_mass_kg
@@ -541,6 +539,18 @@ def wheel_linear_limit_mu(i, fz_straight_n, a_y, mu, blown, p):
     other = i + 1 if i % 2 == 0 else i - 1
     k_other = p.blowout_cornering_stiffness_frac if other == blown else 1.0
     fy = m * abs(a_y) * l_o / l / (1.0 + k_other)
+    return fz, fy
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def wheel_linear_limit_mu(i, fz_straight_n, a_y, mu, blown, p):
+    """(brake force [N], slip) up to which intact wheel ``i`` (front or rear) stays in the Dugoff linear region while
+    carrying its share of its axle's lateral force for a_y (``braking_rule``; ``rear_linear_limit_mu`` for any wheel):
+    load = its straight-driving load -+ the axle's lateral load transfer m*a_y*h*l_o/(B*l) (spec eqs. 3-4, l_o = the
+    other axle's distance to the CG), axle lateral force m*|a_y|*l_o/l shared by cornering stiffness with the other
+    wheel of the axle (the flat tire ``blown`` k_Cy*C_y, an intact one C_y), then the f(H) >= 1 - s boundary
+    (``linear_slip_limit_frac``)."""
+    fz, fy = wheel_load_and_lateral_n(i, fz_straight_n, a_y, blown, p)
     cx = p.tires_longitudinal_stiffness_n
     s_lin = linear_slip_limit_frac(mu, fz, fy, cx)
     fx_l = cx * s_lin / (1.0 - s_lin)
@@ -1283,17 +1293,7 @@ def wheel_circle_limit_mu(i, fz_straight_n, a_y, mu, blown, p):
     its axle's lateral force for a_y (``rear_circle_flag``): F_x <= sqrt((mu*F_z)^2 - F_y^2) (spec 2.3: the Dugoff
     resultant is bounded by mu*F_z), load and lateral share as in ``wheel_linear_limit_mu`` (spec eqs. 3-4, lateral
     force shared by cornering stiffness with the other wheel of the axle). 0 when the lateral force alone uses mu*F_z."""
-    l = p.chassis_wheelbase_m
-    l_f = p.chassis_cg_to_front_axle_m
-    m = p.body_mass_kg
-    front = i < 2
-    l_o = (l - l_f) if front else l_f
-    track = p.chassis_front_track_m if front else p.chassis_rear_track_m
-    d_fz = m * a_y * p.chassis_cg_height_m * l_o / (track * l)
-    fz = fz_straight_n + (-d_fz if i % 2 == 0 else d_fz)  # a_y > 0 (left turn) loads the right wheels
-    other = i + 1 if i % 2 == 0 else i - 1
-    k_other = p.blowout_cornering_stiffness_frac if other == blown else 1.0
-    fy = m * abs(a_y) * l_o / l / (1.0 + k_other)
+    fz, fy = wheel_load_and_lateral_n(i, fz_straight_n, a_y, blown, p)
     cap = mu * max(fz, 0.0)
     return math.sqrt(cap * cap - fy * fy) if cap > fy else 0.0
 
