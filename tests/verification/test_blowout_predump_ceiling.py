@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 
 import vehicle_assist as va
+from tests.support import envelope_point_metric
 from vehicle_assist.verification.envelope import load_envelope
 
 METRIC = "blowout_lateral_deviation_run_max_m"
@@ -39,9 +40,7 @@ def env():
 def test_straight_heavy_braking_front_blowout_no_worse(env):
     """mu 0.5: 3.11 m vs none 5.73 m (6.04 m with the ceiling kept)."""
     point = dict(R61_51_STRAIGHT, mu=0.5)
-    on = va.simulate(env.scenario(point), requirements=False).metrics[METRIC]
-    off = va.simulate(env.scenario(point, baseline=True), requirements=False).metrics[METRIC]
-    assert on <= off
+    assert envelope_point_metric(env, point, METRIC) <= envelope_point_metric(env, point, METRIC, baseline=True)
 
 
 def test_compensating_wheel_not_held_at_an_early_dump_pressure(env):

@@ -504,22 +504,7 @@ def rear_linear_limit_mu(target, fz_straight_n, a_y, mu, p):
     wheel's load = its straight-driving load (blowout transfer included) -+ the rear lateral load transfer
     m*a_y*h*l_f/(B_r*l) (spec eqs. 3-4), the axle's lateral force m*|a_y|*l_f/l shared with the flat tire by
     cornering stiffness (below), then the Dugoff H = 1 boundary (linear_slip_limit_frac)."""
-    l = p.chassis_wheelbase_m
-    l_f = p.chassis_cg_to_front_axle_m
-    m = p.body_mass_kg
-    d_fz = m * a_y * p.chassis_cg_height_m * l_f / (p.chassis_rear_track_m * l)
-    fz = fz_straight_n + (-d_fz if target == 2 else d_fz)
-    # the axle's lateral force shared by the two rear tires at their common slip angle in proportion to their
-    # cornering stiffness (linear region, F_y = C_y*alpha): intact C_y, blown k_Cy*C_y (tire_blowout.md 7, the ECU's
-    # nominal blown-tire data) -> the intact wheel carries 1/(1 + k_Cy) of it
-    fy = m * abs(a_y) * l_f / l / (1.0 + p.blowout_cornering_stiffness_frac)
-    cx = p.tires_longitudinal_stiffness_n
-    s_lin = linear_slip_limit_frac(mu, fz, fy, cx)
-    fx_l = cx * s_lin / (1.0 - s_lin)
-    if fx_l <= 0.0:
-        return 0.0, s_lin
-    h = 0.5 * mu * fz / math.sqrt(fx_l * fx_l + fy * fy)
-    return fx_l * (1.0 if h >= 1.0 else h * (2.0 - h)), s_lin
+    return wheel_linear_limit_mu(target, fz_straight_n, a_y, mu, OPPOSITE[target], p)
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -1175,7 +1160,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                 # once, without the filter's lag: the build's overshoot is caught as by the raw code (a light-braking
                 # rear point, F's P5: 0.51 m raw, 1.51 m on the filtered slip alone, none 0.75 m)
                 s_raw = (v_s - vw[tg]) / max(v_s, 1.0)
-                raw_over = s_raw > cap + RAW_SIGMAS * wheel_noise_mps(st, b, tg, dt) / max(v_s, 1.0)
+                # (the noise term is >= 0: only a sample above the cap needs it)
+                raw_over = s_raw > cap and s_raw > cap + RAW_SIGMAS * wheel_noise_mps(st, b, tg, dt) / max(v_s, 1.0)
                 if s_tg > cap:
                     st[S_SLIP_HIGH_S] += dt
                 elif s_tg <= (1.0 - SLIP_HYST_FRAC) * cap:
@@ -1260,14 +1246,7 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
     g0, g1, g2, g3 = redistributed_loads(b, f0, f1, f2, f3, f)
     gl = (g0, g1, g2, g3)
     r_w = p.body_wheel_radius_m
-    l = p.chassis_wheelbase_m
-    l_r = l - p.chassis_cg_to_front_axle_m
-    m = p.body_mass_kg
-    d_fz = m * a_y_ref * p.chassis_cg_height_m * l_r / (p.chassis_front_track_m * l)
-    fz = gl[tg] + (-d_fz if tg == 0 else d_fz)  # a_y > 0 (left turn) loads the right wheels
-    fy = m * abs(a_y_ref) * l_r / l / (1.0 + p.blowout_cornering_stiffness_frac)
-    cap = mu * max(fz, 0.0)
-    fx_max = math.sqrt(cap * cap - fy * fy) if cap > fy else 0.0
+    fx_max = wheel_circle_limit_mu(tg, gl[tg], a_y_ref, mu, b, p)  # its friction circle next to its lateral share
     p_bal = st[S_P_REQ]
     p_circle = fx_max * r_w / p.brakes_front_gain_nm_per_pa
     p_full = max(p_bal, min(p_bal + p.blowout_compensation_braking_share_frac * max(p_mc, 0.0), p_circle))
@@ -1341,11 +1320,15 @@ def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, 
         v_s = slip_reference_mps(st, int(st[S_BLOWN]), tg, v_ref, braking)
         p_m, v_m, wdot = wheel_pressure_mean(st, tg), wheel_speed_mean(st, tg), wheel_accel_mps2(st, tg, dt) / p.body_wheel_radius_m
         fx, s_tg, q, cap = tire_capacity_estimate(p_m, v_m, wdot, v_s, gain, p)
-        _, _, q_hi, cap_hi = tire_capacity_estimate(p_m, v_m, wdot, v_s, gain * gain_hi, p)
+        q_hi, cap_hi = q, cap
+        if gain_hi != 1.0:  # a rear wheel (and tolerance 0) is judged at the nominal gain: the same evidence
+            _, _, q_hi, cap_hi = tire_capacity_estimate(p_m, v_m, wdot, v_s, gain * gain_hi, p)
     else:
         prev = st[S_VW_PREV] if st[S_VW_PREV] >= 0.0 else vw[tg]
         fx, s_tg, q, cap = tire_capacity_check(p_est[tg], vw[tg], prev, v_ref, dt, gain, p)
-        _, _, q_hi, cap_hi = tire_capacity_check(p_est[tg], vw[tg], prev, v_ref, dt, gain * gain_hi, p)
+        q_hi, cap_hi = q, cap
+        if gain_hi != 1.0:
+            _, _, q_hi, cap_hi = tire_capacity_check(p_est[tg], vw[tg], prev, v_ref, dt, gain * gain_hi, p)
     st[S_VW_PREV] = vw[tg]
     filt = p.blowout_compensation_signal_filter_flag > 0.5
     mu_est = cap / max(st[S_FZ_TARGET], 1.0)  # the friction the tire measurably has (capacity over the ECU's load)

@@ -43,6 +43,7 @@ from vehicle_assist.core.fsm import log_event
 from vehicle_assist.functions import abs as abs_fn
 from vehicle_assist.functions import blowout_compensation as bc
 from vehicle_assist.functions import brake_assist as hba
+from vehicle_assist.plant.brakes.master_cylinder import proportioned_pa
 
 # wheel valve modes (the ESP unit's table rows; same order as plant/brakes/esp_unit.py MODES)
 W_N, W_B, W_HI, W_H, W_D, W_BP, W_BPM, W_T = range(8)
@@ -593,7 +594,6 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                     wm = W_BP
                 else:
                     wm = W_HI
-            src_i = p_mc if i < 2 else _prop(p_mc, p)
             if wm == W_H and wheels[i, A_P_EST] > src_i + RAMP_SETTLED_PA:
                 wm = W_HI  # (as below: with the USV open the return check valve would drain it)
             if wm == W_D and wheels[i, A_P_EST] < p.esp_unit_lpa_pressure_pa + 0.5e5:
@@ -608,7 +608,6 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                     wm = W_H
         elif abs_ok and blow_req[i] != bc.Q_NONE:
             wm = BLOWOUT_ARBITRATION[blow_req[i], wm]
-            src_i = p_mc if i < 2 else _prop(p_mc, p)
             if blow_req[i] == bc.Q_HOLD and wm == W_HI and src_i > wheels[i, A_P_EST] + 1.0e5:
                 wm = W_N  # the driver asks for more than the compensation holds: the driver's pressure
             if wm == W_D and wheels[i, A_P_EST] < p.esp_unit_lpa_pressure_pa + 0.5e5:
@@ -630,7 +629,6 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # function; then (or at an ABS dump of it) ABS as usual
             if bst[bc.S_REAPPLY_P] < 0.0:
                 bst[bc.S_REAPPLY_P] = wheels[i, A_P_EST]
-            src_i = p_mc if i < 2 else _prop(p_mc, p)
             if wm == W_D or bst[bc.S_REAPPLY_P] >= min(wheels[bc.OPPOSITE[i], A_P_EST], src_i) - 1.0e5:
                 bst[bc.S_REAPPLY] = -1.0
             else:
@@ -646,8 +644,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         # own ABS mode: a rear released by the select-low, or the GMA's wheel, recovers from below (braking_outlier)
         quiet_v = (wm == W_N or wm == W_B or not abs_ok) and int(wheels[i, A_MODE]) == abs_fn.OFF
         wheels[i, A_VALVE_QUIET_S] = wheels[i, A_VALVE_QUIET_S] + dt if quiet_v else 0.0
-        src = p_mc if i < 2 else _prop(p_mc, p)
-        wheels[i, A_P_EST] = _estimate(wm, wheels[i, A_P_EST], src, dt, p, wheels[i, A_INLET_OPEN_S])
+        wheels[i, A_P_EST] = _estimate(wm, wheels[i, A_P_EST], src_i, dt, p, wheels[i, A_INLET_OPEN_S])
         if i >= 2 and bst[bc.S_PAIR_LOW] > 0.5 and int(bst[bc.S_REAPPLY]) == i and wm == W_N:
             # (reject_pair_low_flag) the re-applied rear's estimate is the re-apply's line model, not the source W_N's
             # estimate jumps to: ABS may dump the pair before the line has filled it (35 bar of 81, 120 km/h 500 N)
@@ -658,7 +655,5 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def _prop(p_mc, p):
-    knee = p.master_cylinder_proportioning_knee_pa
-    if p_mc <= knee:
-        return p_mc
-    return knee + p.master_cylinder_proportioning_slope_frac * (p_mc - knee)
+    """Rear pressure the proportioning valve passes for the master pressure p_mc (the valve's nominal curve)."""
+    return proportioned_pa(p_mc, p.master_cylinder_proportioning_knee_pa, p.master_cylinder_proportioning_slope_frac)
