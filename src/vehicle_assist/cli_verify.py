@@ -93,19 +93,37 @@ def _session(scheduler: str | None, n_runs: int, envelope: str, sets: list[str])
                                warm=warm)
 
 
+# the files in data/envelopes (a test keeps this list equal to them; reading the folder here would slow --help)
+SHIPPED_ENVELOPES = "brake_assist, curve_shift, hill_start_amt, hill_start_ehb, tire_blowout, tire_blowout_closed_loop"
+RESTRICT_HELP = ("narrow a dimension for every point (repeatable): NAME=LO..HI, NAME=VALUE (pinned) or "
+                 "NAME=OPTION[,OPTION...], e.g. braking=brakes")
+
+
+def _envelope(envelope: str, restrict: list[str]):
+    """The envelope object with --restrict applied (checked before anything runs)."""
+    from vehicle_assist.scenarios.errors import InputError
+    from vehicle_assist.verification.envelope import load_envelope
+
+    try:
+        return load_envelope(envelope).restrict_text(restrict)
+    except InputError as exc:
+        _fail(str(exc))
+
+
 def _check_budget(name: str, value: int, lo: int, hi: int) -> None:
     if not lo <= value <= hi:
         _fail(f"{name} = {value}: must be between {lo} and {hi}")
 
 
 def falsify(
-    envelope: str = typer.Argument(..., help="shipped envelope (hill_start_amt, hill_start_ehb) or an envelope .toml"),
+    envelope: str = typer.Argument(..., help=f"shipped envelope ({SHIPPED_ENVELOPES}) or an envelope .toml"),
     requirement: str = typer.Option(..., "--requirement", "-r", help="requirement id, e.g. hill_start_amt.no_worse_than_no_assist"),
     budget: int = typer.Option(200, "--budget", "-n", help="maximum number of evaluated points"),
     seed: int = typer.Option(0, "--seed", help="seed of the search (same seed, same result)"),
     optimizer: str = typer.Option("cma", "--optimizer", help="cma (CMA-ES, the cma package) or random"),
     batch: int = typer.Option(8, "--batch", "-b", help="points per batch (run on all cores)"),
     set_: Optional[List[str]] = typer.Option(None, "--set", "-s", help="fixed override for every point (repeatable), e.g. a seeded defect"),
+    restrict: Optional[List[str]] = typer.Option(None, "--restrict", "-R", help=RESTRICT_HELP),
     out: Path = typer.Option(Path("out/falsify"), "--out", "-o", help="output directory"),
     keep_going: bool = typer.Option(False, "--keep-going", help="use the whole budget even after a violation; "
                                     "counterexample.toml is then the worst violation, and the log gives their count"),
@@ -122,10 +140,11 @@ def falsify(
     if optimizer not in OPTIMIZERS:
         _fail(f"--optimizer = {optimizer!r}: use one of {', '.join(OPTIMIZERS)}")
     out = _out(out)
+    env = _envelope(envelope, list(restrict or []))
     _memory_guard(envelope, list(set_ or []), batch)
     try:
         with _session(scheduler, 2 * budget, envelope, list(set_ or [])):  # 2: a comparative point runs its twin
-            result = run_falsification(envelope, requirement, budget=budget, seed=seed, optimizer=optimizer, batch=batch,
+            result = run_falsification(env, requirement, budget=budget, seed=seed, optimizer=optimizer, batch=batch,
                                        sets=list(set_ or []), stop_at_violation=not keep_going, console=console)
         paths = write_falsification(result, out)
     except InputError as exc:
@@ -152,7 +171,7 @@ def falsify(
 
 
 def study(
-    envelope: str = typer.Argument(..., help="shipped envelope or an envelope .toml"),
+    envelope: str = typer.Argument(..., help=f"shipped envelope ({SHIPPED_ENVELOPES}) or an envelope .toml"),
     requirement: str = typer.Option(..., "--requirement", "-r", help="requirement id"),
     samples: int = typer.Option(256, "--samples", "-n", help="coverage: number of quasi-random points"),
     method: str = typer.Option("sobol", "--method", help="coverage sampling: sobol, lhs or random"),
@@ -160,6 +179,7 @@ def study(
     output: str = typer.Option("violated", "--output", help="sensitivity of: violated (1 where robustness < 0) or robustness"),
     seed: int = typer.Option(0, "--seed"),
     set_: Optional[List[str]] = typer.Option(None, "--set", "-s", help="fixed override for every point (repeatable)"),
+    restrict: Optional[List[str]] = typer.Option(None, "--restrict", "-R", help=RESTRICT_HELP),
     out: Path = typer.Option(Path("out/study"), "--out", "-o", help="output directory"),
     scheduler: Optional[str] = typer.Option(None, "--scheduler", help=SCHEDULER_HELP),
 ) -> None:
@@ -174,15 +194,16 @@ def study(
     if output not in ("violated", "robustness"):  # checked before the coverage run writes anything
         _fail(f"--output = {output!r}: use violated or robustness")
     out = _out(out)
+    env = _envelope(envelope, list(restrict or []))
     _memory_guard(envelope, list(set_ or []), 16)  # runner.BATCH_CHUNK variants at once
     try:
         with _session(scheduler, 2 * (samples + sensitivity * 10), envelope, list(set_ or [])):  # runs: upper estimate
-            cov = coverage_study(envelope, requirement, samples, method=method, seed=seed, sets=list(set_ or []), out=out,
+            cov = coverage_study(env, requirement, samples, method=method, seed=seed, sets=list(set_ or []), out=out,
                                  console=console)
             console.print(f"coverage: {cov['points']} points ({method}), {cov['violations']} violate "
                           f"{requirement}; minimum robustness {_num(cov['min_robustness'])} {cov['unit']}; figure {cov['figure']}")
             if sensitivity:
-                sens = sensitivity_study(envelope, requirement, sensitivity, seed=seed, sets=list(set_ or []), out=out,
+                sens = sensitivity_study(env, requirement, sensitivity, seed=seed, sets=list(set_ or []), out=out,
                                          console=console, output=output)
                 table = RichTable(title=f"Sobol indices of {output} for {requirement} ({sens['points']} points)")
                 for col in ("dimension", "S1", "S1 conf", "ST", "ST conf"):
@@ -209,7 +230,7 @@ def requirements_cmd() -> None:
     console.print(table)
 
 
-def envelope_cmd(name: str = typer.Argument(..., help="shipped envelope or an envelope .toml")) -> None:
+def envelope_cmd(name: str = typer.Argument(..., help=f"shipped envelope ({SHIPPED_ENVELOPES}) or an envelope .toml")) -> None:
     """Show an envelope's dimensions, ranges and sources (validates the file)."""
     from vehicle_assist.scenarios.errors import InputError
     from vehicle_assist.verification.envelope import load_envelope

@@ -164,6 +164,8 @@ class Dim:
     def to_unit(self, value) -> float:
         if self.kind == "discrete":
             return (self.options.index(value) + 0.5) / len(self.options)
+        if self.hi == self.lo:  # a pinned dimension (restrict LO == HI)
+            return 0.5
         return (float(value) - self.lo) / (self.hi - self.lo)
 
     def levels(self, n) -> list:
@@ -260,11 +262,36 @@ class Envelope:
                 bad = [o for o in value if o not in d.options]
                 if bad or not value:
                     raise InputError(f"{self.where}: restrict {name}: options {bad or value} not in {d.options}")
-            elif not (d.lo <= value[0] < value[1] <= d.hi):
+            elif not (d.lo <= value[0] <= value[1] <= d.hi):  # value[0] == value[1]: the dimension is pinned
                 raise InputError(f"{self.where}: restrict {name} = {value}: must lie within {d.lo:g} .. {d.hi:g}")
         env = Envelope(self.model, self.path, {**self.narrowed, **{k: tuple(v) for k, v in limits.items()}})
         env.__dict__["base_scenario"] = self.base_scenario
         return env
+
+    def restrict_text(self, items: list[str]) -> "Envelope":
+        """``restrict`` from command-line text: ``NAME=LO..HI`` narrows a range, ``NAME=VALUE`` pins it,
+        ``NAME=OPT[,OPT...]`` keeps those options of a choice (e.g. ``braking=brakes``, ``speed_kph=60..80``)."""
+        limits: dict = {}
+        for item in items:
+            name, eq, text = (part.strip() for part in item.partition("="))
+            if not eq or not name or not text:
+                raise InputError(f"--restrict {item!r}: use NAME=LO..HI, NAME=VALUE or NAME=OPTION[,OPTION...]")
+            if name in limits:
+                raise InputError(f"--restrict {name}: given twice")
+            d = self.dim(name)
+            if d.kind == "discrete":
+                limits[name] = tuple(o.strip() for o in text.split(","))
+                continue
+            lo_text, dots, hi_text = text.partition("..")
+            try:
+                lo, hi = float(lo_text), float(hi_text if dots else lo_text)
+            except ValueError:
+                raise InputError(f"--restrict {item!r}: {name} is a range ({d.lo:g} .. {d.hi:g}): give LO..HI or "
+                                 "one number") from None
+            if not (np.isfinite(lo) and np.isfinite(hi)) or lo > hi:
+                raise InputError(f"--restrict {item!r}: need finite LO <= HI")
+            limits[name] = (lo, hi)
+        return self.restrict(**limits) if limits else self
 
     # -- dimensions ------------------------------------------------------------------------------
     @cached_property

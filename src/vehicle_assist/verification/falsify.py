@@ -263,6 +263,7 @@ def write_falsification(result: FalsifyResult, out: Path) -> dict[str, Path]:
     summary = {
         "envelope": result.envelope.model.name, "requirement": result.requirement.as_dict(),
         "optimizer": result.optimizer, "seed": result.seed, "budget": result.budget, "sets": result.sets,
+        "restrict": {k: list(v) for k, v in result.envelope.narrowed.items()},
         "stop_at_violation": result.stop_at_violation,
         "evaluations": len(result.evaluations), "wall_s": result.wall_s,
         "evaluations_to_first_counterexample": result.evaluations_to_first,

@@ -1,0 +1,78 @@
+"""``falsify``/``study --restrict``: narrow or pin a dimension of the envelope for every point (a demanding user's
+need from session e: the falsifier could not fix a choice such as ``braking=brakes``; engineers copied the envelope).
+
+Reference: the restriction itself - every evaluated point must lie inside it, whatever the search does; and the
+planted closed form of test_falsify.py (robustness ``|slope_rad - 0.25| - 0.01``) at a pinned grade."""
+import json
+import math
+
+import pytest
+from typer.testing import CliRunner
+
+from vehicle_assist.cli import app
+from vehicle_assist.cli_verify import SHIPPED_ENVELOPES
+from vehicle_assist.scenarios.errors import InputError
+from vehicle_assist.verification.envelope import load_envelope, shipped_envelopes
+from vehicle_assist.verification.falsify import run_falsification
+from vehicle_assist.scenarios.schema import RequirementSpec
+from vehicle_assist.verification.requirements import make_requirement
+from tests.support import PLANTED_ENVELOPE
+
+
+@pytest.fixture()
+def planted(tmp_path):
+    path = tmp_path / "planted.toml"
+    path.write_text(PLANTED_ENVELOPE)
+    return path
+
+
+def test_cli_restrict_keeps_every_point_inside(planted, tmp_path):
+    out = tmp_path / "f"
+    res = CliRunner().invoke(app, ["falsify", str(planted), "-r", "hill_start_amt.no_rollback", "--optimizer", "random",
+                                   "-n", "6", "-b", "3", "--keep-going", "-o", str(out),
+                                   "-R", "slope=5..6", "-R", "surface=wet", "-R", "mass=20000"])
+    assert res.exit_code in (0, 1), res.output
+    doc = json.loads((out / "falsify.json").read_text())
+    assert doc["restrict"] == {"slope": [5.0, 6.0], "surface": ["wet"], "mass": [20000.0, 20000.0]}
+    pts = [h["point"] for h in doc["history"]]
+    assert len(pts) == 6
+    assert all(5.0 <= p["slope"] <= 6.0 for p in pts)
+    assert {p["surface"] for p in pts} == {"wet"} and {p["mass"] for p in pts} == {20000.0}
+    assert len({p["slope"] for p in pts}) > 1  # the free part of the range is still searched
+
+
+def test_pinned_grade_gives_the_closed_form(planted):
+    req = make_requirement(RequirementSpec(id="planted", formula="always(abs(slope_rad - 0.25) > 0.01)", why="planted"),
+                           "truck_amt", "test", "requirements.0")
+    env = load_envelope(str(planted)).restrict_text(["slope=14.3"])
+    res = run_falsification(env, req, budget=2, seed=0, optimizer="random", batch=2, progress=False)
+    for e in res.evaluations:
+        assert e.point["slope"] == 14.3
+        assert e.robustness == pytest.approx(abs(math.radians(14.3) - 0.25) - 0.01, abs=1e-9)
+    assert res.counterexample is not None  # 14.3 deg lies in the violating band 13.75-14.90 deg
+
+
+@pytest.mark.parametrize("item, needle", [
+    ("slop=5..6", "did you mean 'slope'"),
+    ("slope=15..25", "must lie within 0 .. 20"),
+    ("slope=6..5", "LO <= HI"),
+    ("slope=steep", "is a range"),
+    ("surface=ice", "not in"),
+    ("slope", "use NAME=LO..HI"),
+])
+def test_bad_restrict_one_line(planted, tmp_path, item, needle):
+    res = CliRunner().invoke(app, ["falsify", str(planted), "-r", "hill_start_amt.no_rollback", "-o", str(tmp_path / "f"),
+                                   "-R", item])
+    assert res.exit_code == 2, res.output
+    lines = [ln for ln in res.output.splitlines() if ln.strip()]
+    assert len(lines) == 1 and needle in lines[0], res.output
+    assert not (tmp_path / "f" / "falsify.json").exists()
+
+
+def test_restrict_twice_is_an_error(planted):
+    with pytest.raises(InputError, match="given twice"):
+        load_envelope(str(planted)).restrict_text(["slope=1..2", "slope=3..4"])
+
+
+def test_help_lists_every_shipped_envelope():
+    assert sorted(s.strip() for s in SHIPPED_ENVELOPES.split(",")) == sorted(shipped_envelopes())
