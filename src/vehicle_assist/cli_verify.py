@@ -131,7 +131,7 @@ def falsify(
 ) -> None:
     """Search the envelope for the input that minimises a requirement's robustness (stops at the first violation; --keep-going: the worst over the whole budget)."""
     from vehicle_assist.scenarios.errors import InputError
-    from vehicle_assist.verification.falsify import OPTIMIZERS, run_falsification, write_falsification
+    from vehicle_assist.verification.falsify import OPTIMIZERS, run_falsification, twin_text, write_falsification
 
     _check_budget("--budget", budget, 1, 1_000_000)
     _check_budget("--batch", batch, 1, 10_000)
@@ -160,10 +160,14 @@ def falsify(
                       f"{_num(cex.robustness)} {escape(unit)} (first after {result.evaluations_to_first} of "
                       f"{len(result.evaluations)} evaluations)\n  {escape(result.envelope.point_name(cex.point))}")
         console.print(f"reproduce it: vehicle-assist run {paths['scenario']}", markup=False)
+        if twin_text(result):
+            console.print(twin_text(result), markup=False)
     elif cex is not None:
         console.print(f"[red]counterexample[/] after {result.evaluations_to_first} evaluations: robustness "
                       f"{_num(cex.robustness)} {escape(unit)}\n  {escape(result.envelope.point_name(cex.point))}")
         console.print(f"reproduce it: vehicle-assist run {paths['scenario']}", markup=False)
+        if twin_text(result):
+            console.print(twin_text(result), markup=False)
     else:
         console.print(f"[green]no counterexample[/] in {len(result.evaluations)} evaluations; minimum robustness "
                       f"{_num(best.robustness)} {escape(unit)} at\n  {escape(result.envelope.point_name(best.point))}")

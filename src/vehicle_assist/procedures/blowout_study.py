@@ -260,7 +260,7 @@ def falsify_extra(out_dir: Path):
     """Falsification of data/requirements/tire_blowout.toml over data/envelopes/tire_blowout.toml (the paper's
     feed-forward) and tire_blowout_closed_loop.toml (the optional yaw-rate correction) (issue #10: requirements
     and an envelope for the falsification engine, with a campaign in reproduce)."""
-    from vehicle_assist.verification.falsify import run_falsification, write_falsification
+    from vehicle_assist.verification.falsify import run_falsification, twin_text, write_falsification
 
     figures, entries = [], []
     # the paper's feed-forward (the shipped default), then the optional closed loop over the same envelope
@@ -274,7 +274,8 @@ def falsify_extra(out_dir: Path):
         if cex is not None:
             figures.append((f"paper 004: counterexample of {rid} ({env})", paths["plot"]))
             why = (f"counterexample after {res.evaluations_to_first} evaluations at [{res.envelope.point_name(cex.point)}]; "
-                   f"reproduce: vehicle-assist run {paths['scenario']}; requirement: {res.requirement.why}")
+                   f"reproduce: vehicle-assist run {paths['scenario']}; {twin_text(res) or 'compared with its twin'}; "
+                   f"requirement: {res.requirement.why}")
             value = cex.robustness
         else:
             why = (f"CMA-ES seed {FALSIFY_SEED}, {len(res.evaluations)} evaluations; minimum robustness at "

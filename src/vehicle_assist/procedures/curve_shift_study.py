@@ -340,7 +340,7 @@ REQUIREMENTS = ("curve_shift.no_overspeed", "curve_shift.no_upshift_in_curve_mod
 
 def falsify_extra(out_dir: Path, budget: int = FALSIFY_BUDGET, seed: int = FALSIFY_SEED):
     """Falsification campaign over data/envelopes/curve_shift.toml for each shipped requirement."""
-    from vehicle_assist.verification.falsify import run_falsification, write_falsification
+    from vehicle_assist.verification.falsify import run_falsification, twin_text, write_falsification
 
     figures, entries = [], []
     for rid in REQUIREMENTS:
@@ -355,7 +355,9 @@ def falsify_extra(out_dir: Path, budget: int = FALSIFY_BUDGET, seed: int = FALSI
                         "value": float(found.robustness), "unit": res.requirement.unit or "-", "bound": ">= 0",
                         "pass": cex is None,
                         "why": (f"issue #11 envelope; {'counterexample' if cex is not None else 'worst point'} at "
-                                f"[{res.envelope.point_name(found.point)}]; requirement: {res.requirement.why}")})
+                                f"[{res.envelope.point_name(found.point)}]; "
+                                f"{(twin_text(res) + '; ') if cex is not None and twin_text(res) else ''}"
+                                f"requirement: {res.requirement.why}")})
     # negative controls: the same search must find counterexamples when the function under test is removed
     for rid, sets, reason in NEGATIVE_CONTROLS:
         res = run_falsification("curve_shift", rid, budget=budget, seed=seed, optimizer="cma", batch=8, sets=list(sets),

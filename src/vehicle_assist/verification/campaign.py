@@ -127,7 +127,7 @@ def envelope_extra(function: str, out_dir: Path, levels: dict | None = None):
 
 def falsify_extra(paper: str, out_dir: Path, budget: int | None = None, seed: int = CAMPAIGN_SEED):
     from vehicle_assist.verification.envelope import load_envelope
-    from vehicle_assist.verification.falsify import run_falsification, write_falsification
+    from vehicle_assist.verification.falsify import run_falsification, twin_text, write_falsification
 
     function, campaigns = CAMPAIGNS[paper]
     budget = budget or CAMPAIGN_BUDGET_OF.get(paper, CAMPAIGN_BUDGET)
@@ -145,7 +145,7 @@ def falsify_extra(paper: str, out_dir: Path, budget: int | None = None, seed: in
         if cex is not None:
             why = (f"issue #8: counterexample after {res.evaluations_to_first} evaluations at "
                    f"[{res.envelope.point_name(cex.point)}]; reproduce: vehicle-assist run {paths['scenario']}; "
-                   f"requirement: {res.requirement.why}")
+                   f"{twin_text(res) or 'compared with its twin'}; requirement: {res.requirement.why}")
             figures.append((f"paper {paper}: counterexample of {rid}", paths["plot"]))
             value = cex.robustness
         else:

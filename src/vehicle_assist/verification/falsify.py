@@ -61,6 +61,7 @@ class FalsifyResult:
     evaluations: list[Evaluation]
     wall_s: float
     stop_at_violation: bool = True
+    counterexample_twin_robustness: float | None = None  # set by write_falsification (twin_robustness)
 
     @property
     def best(self) -> Evaluation:
@@ -101,6 +102,31 @@ def _metric_names(layout: str) -> list[str]:
 
     chans = layouts.get(layout).CHANNELS
     return [n for n in SUMMARY_METRICS if n in METRICS and all(c in chans for c in METRICS[n].requires)]
+
+
+def twin_robustness(env: Envelope, req: Requirement, point: dict) -> float | None:
+    """Robustness of an absolute (non-comparative) requirement at ``point`` for the point's no-assist twin
+    (the envelope's ``baseline`` overrides): tells a counterexample the assist causes from one the car without
+    it has too (e.g. a lane departure on ice). None for a comparative requirement (its robustness is already
+    the difference to the twin)."""
+    if req.comparative:
+        return None
+    from vehicle_assist.core.trace import Trace
+    from vehicle_assist.scenarios.runner import simulate_batch
+
+    batch = simulate_batch([env.scenario(point, baseline=True)], keep_channels=list(req.channels), metric_names=[],
+                           workers=1)
+    return float(robustness(req, Trace(dict(batch.channels[0]))))
+
+
+def twin_text(result: "FalsifyResult") -> str:
+    """One clause for a log line or a reproduce entry: what the no-assist twin does at the counterexample."""
+    r = result.counterexample_twin_robustness
+    if r is None or result.counterexample is None:
+        return ""
+    verdict = "violates it too" if r < 0 else "meets it"
+    return (f"the same point without the assist ({' '.join(result.envelope.model.baseline)}) {verdict}: robustness "
+            f"{r:.4g} {result.requirement.unit}")
 
 
 def evaluate_points(env: Envelope, req: Requirement, points: list[dict], workers: int | None = None
@@ -260,6 +286,8 @@ def write_falsification(result: FalsifyResult, out: Path) -> dict[str, Path]:
     paths: dict[str, Path] = {}
     cex = result.counterexample
     first = result.first_counterexample
+    result.counterexample_twin_robustness = (None if cex is None else
+                                             twin_robustness(result.envelope, result.requirement, cex.point))
     summary = {
         "envelope": result.envelope.model.name, "requirement": result.requirement.as_dict(),
         "optimizer": result.optimizer, "seed": result.seed, "budget": result.budget, "sets": result.sets,
@@ -274,7 +302,8 @@ def write_falsification(result: FalsifyResult, out: Path) -> dict[str, Path]:
         "counterexample": None if cex is None else {
             "selected": "first" if result.stop_at_violation else "worst", "index": cex.index,
             "point": cex.point, "robustness": cex.robustness,
-            "metrics": cex.metrics, "baseline_metrics": cex.baseline_metrics},
+            "metrics": cex.metrics, "baseline_metrics": cex.baseline_metrics,
+            "baseline_robustness": result.counterexample_twin_robustness},
         "history": [{"index": e.index, "robustness": e.robustness, "point": e.point, **e.metrics} for e in result.evaluations],
     }
     paths["summary"] = write_json(summary, out / "falsify.json")
