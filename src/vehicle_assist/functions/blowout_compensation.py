@@ -1199,14 +1199,14 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             # (not on the spin-front wheel: its lost lateral force is the intended understeer)
             tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, dt)
         if p.blowout_compensation_understeer_flag > 0.5:
-            understeer_rule(st, b, tg, mode, r_ref, yaw_rate_meas, p_est, requests, p)
+            understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, requests, p)
     if p.blowout_compensation_braking_rule_flag > 0.5:
         braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p)
     return n_events
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def understeer_rule(st, b, tg, mode, r_ref, yaw_rate_meas, p_est, requests, p):
+def understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, requests, p):
     """Blown FRONT wheel on the inside of the turn the driver steers, the car understeering (``understeer_flag``, 0 =
     seeded defect = the code before; findings_F.md R3, tire_blowout.md open item 1): the steering reference
     (``reference_yaw_rate``) points toward the blown side by more than the dead band (yaw_deadband_deg_per_s) and the
@@ -1227,7 +1227,11 @@ def understeer_rule(st, b, tg, mode, r_ref, yaw_rate_meas, p_est, requests, p):
     if ref_in > db and ref_in - toward_blown_side(b, yaw_rate_meas) > db:
         st[S_US_LIMITED] = 1.0
         st[S_P_REQ] = max(min(st[S_P_REQ], p_est[tg]), st[S_P_START])
-        requests[tg] = Q_RELEASE if p_est[tg] > st[S_P_START] + 1.0e5 else Q_HOLD
+        if braking > 0.5:
+            requests[tg] = Q_HOLD  # braking: the braking rule's target (drag balance = this lowered target, never below
+            #   the driver's own pressure once lowered here, ``braking_rule``) takes the wheel down
+        else:
+            requests[tg] = Q_RELEASE if p_est[tg] > st[S_P_START] + 1.0e5 else Q_HOLD
     elif mode == BUILD and st[S_US_LIMITED] > 0.5:
         requests[tg] = Q_HOLD  # once lowered, the build does not start again
 
@@ -1283,6 +1287,12 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
     p_bal = st[S_P_REQ]
     p_circle = fx_max * r_w / p.brakes_front_gain_nm_per_pa
     p_full = max(p_bal, min(p_bal + p.blowout_compensation_braking_share_frac * max(p_mc, 0.0), p_circle))
+    if st[S_US_LIMITED] > 0.5:
+        # the understeer rule lowered the balance (understeer_rule): the wheel keeps at least the driver's own pressure
+        # within its friction circle, what it carries without the function (the blown inner front's drag already turns
+        # the car into the curve; below the driver's pressure the front axle, one tire flat, hardly brakes)
+        p_bal = max(p_bal, min(max(p_mc, 0.0), p_circle))
+        p_full = max(p_full, p_bal)
     toward = toward_blown_side(b, yaw_rate)
     if toward < -p.blowout_compensation_yaw_deadband_radps:
         st[S_P_BRAKE] = p_bal
