@@ -1229,6 +1229,11 @@ def understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, reque
     only; the over-compensation limiter, the capacity rule and the braking rule act as before."""
     if b < 0 or b >= 2 or tg != OPPOSITE[b] or mode != HOLD:
         return
+    if braking > 0.5:
+        # the driver brakes: the braking rule governs the wheel (its own yaw feedback on the driver's share) from the
+        # balance before any lowering
+        st[S_US_S] = 0.0
+        return
     db = p.blowout_compensation_yaw_deadband_radps
     ref_in = toward_blown_side(b, r_ref)
     err_in = toward_blown_side(b, yaw_rate_meas) - ref_in  # + = turning toward the blown side more than asked
@@ -1239,11 +1244,7 @@ def understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, reque
             st[S_US_PLAN] = st[S_P_REQ]
         st[S_US_LIMITED] = 1.0
         st[S_P_REQ] = max(min(st[S_P_REQ], p_est[tg]), st[S_P_START])
-        if braking > 0.5:
-            requests[tg] = Q_HOLD  # braking: the braking rule's target (drag balance = this lowered target, never below
-            #   the driver's own pressure once lowered here, ``braking_rule``) takes the wheel down
-        else:
-            requests[tg] = Q_RELEASE if p_est[tg] > st[S_P_START] + 1.0e5 else Q_HOLD
+        requests[tg] = Q_RELEASE if p_est[tg] > st[S_P_START] + 1.0e5 else Q_HOLD
     elif st[S_US_LIMITED] > 0.5 and err_in > db:
         # turning toward the blown side beyond the reference: the balance before the lowering back (re-built by the ESP)
         st[S_P_REQ] = max(st[S_US_PLAN], st[S_P_REQ])
@@ -1303,12 +1304,6 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
     p_bal = st[S_P_REQ]
     p_circle = fx_max * r_w / p.brakes_front_gain_nm_per_pa
     p_full = max(p_bal, min(p_bal + p.blowout_compensation_braking_share_frac * max(p_mc, 0.0), p_circle))
-    if st[S_US_LIMITED] > 0.5:
-        # the understeer rule lowered the balance (understeer_rule): the wheel keeps at least the driver's own pressure
-        # within its friction circle, what it carries without the function (the blown inner front's drag already turns
-        # the car into the curve; below the driver's pressure the front axle, one tire flat, hardly brakes)
-        p_bal = max(p_bal, min(max(p_mc, 0.0), p_circle))
-        p_full = max(p_full, p_bal)
     toward = toward_blown_side(b, yaw_rate)
     if toward < -p.blowout_compensation_yaw_deadband_radps:
         st[S_P_BRAKE] = p_bal
