@@ -1237,7 +1237,7 @@ def understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, reque
     db = p.blowout_compensation_yaw_deadband_radps
     ref_in = toward_blown_side(b, r_ref)
     err_in = toward_blown_side(b, yaw_rate_meas) - ref_in  # + = turning toward the blown side more than asked
-    under = ref_in > db and err_in < -db
+    under = ref_in > db and err_in < -db and st[S_CAP_LATCHED] > 0.5
     st[S_US_S] = st[S_US_S] + dt if under else 0.0
     if under and st[S_US_S] >= US_PERSIST_S - 1e-9:
         if st[S_US_LIMITED] < 0.5:
