@@ -143,7 +143,10 @@ arbitration): from the yaw-moment balance of the four brake forces with the blow
 M_z = b_f*(D - F_opp) + b_r*(F_rl - F_rr): the compensating front wheel = drag balance (eqs. 26-28) + a share of the
 driver's pressure within its friction circle, the share only while the measured yaw does not point away from the blown
 side, re-built after an ABS dump to its pressure at the dump's start; the rear pair one cap at the friction circle
-with its lateral share at the measured friction (``rear_circle_flag``; 0 = seeded defect = the linear-region cap).
+with its lateral share at the measured friction (``rear_circle_flag``; 0 = seeded defect = the linear-region cap);
+in an oversteer toward the blown side (outside the sideslip phase-plane region, Inagaki 1994, the slide of the spin
+toward the blown side) the pair is held and lowered 1 bar per period, also before any measured friction
+(``rear_oversteer_flag``, ``rear_oversteer_cap``; 0 = seeded defect = no rear cap without a measured friction).
 Optional closed loop (``closed_loop_flag``): in HOLD, yaw toward the blown side above the deadband adds
 pulsed build on the braking wheel, yaw away from it dumps; otherwise hold.
 """
@@ -231,7 +234,11 @@ S_REAPPLY_P = S_REAPPLY + 1  # the ECU's line model of that wheel's pressure dur
 # rear select-low on the pair's pressure after a rear wheel's rejection while braking (``reject_pair_low_flag``,
 # functions/esp.py): 1 until the brake is released, 0 otherwise
 S_PAIR_LOW = S_REAPPLY_P + 1
-STATE_SIZE = S_PAIR_LOW + 1
+# braking rule, rear pair in an oversteer toward the blown side (``rear_oversteer_flag``): the kinematic sideslip rate
+# a_y/u - r of the last period [rad/s] (the phase-plane state with S_BETA_EST) and the cap it set on the pair [Pa] (-1 none)
+S_BETA_DOT = S_PAIR_LOW + 1
+S_REAR_OS_CAP = S_BETA_DOT + 1
+STATE_SIZE = S_REAR_OS_CAP + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -283,6 +290,7 @@ def initial_state() -> np.ndarray:
     st[S_P_PREDUMP] = -1.0
     st[S_HEALTHY_S] = -1.0
     st[S_REAPPLY] = -1.0
+    st[S_REAR_OS_CAP] = -1.0
     return st
 
 
@@ -978,6 +986,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                 st[S_LIMIT_CODE] = LIMIT_OTHER_AXLE if inlet_ok[target] > 0.5 else LIMIT_NO_AUTHORITY
             _plan(st, b, target, new == LIMITED, slip_mean, a_x, a_y_ref, p_est, p)
             st[S_BETA_EST] = 0.0  # kinematic sideslip estimate, integrated from the detection
+            st[S_BETA_DOT] = 0.0
             st[S_BETA_OWN] = 0.0  # the model of the function's own yaw moment starts at the detection (yaw_net_flag)
             st[S_R_OWN] = 0.0
             st[S_OVERSPEED_S] = 0.0
@@ -1039,6 +1048,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             unconfirmed = released_wheel_healthy(st, b, v_ref, a_x, p_est, dt, p)
         b_dot = a_y_meas / v_ref - yaw_rate_meas if v_ref > 1.0 else 0.0  # beta_dot = a_y/u - r (kinematic)
         st[S_BETA_EST] += b_dot * dt
+        st[S_BETA_DOT] = b_dot
         code = unstable_code(yaw_rate_meas, st[S_BETA_EST], v_ref, p)
         # spin-front trigger (phase_plane_flag): the mu-0.8 bounds or the friction-free sideslip phase plane
         spin = code != LIMIT_NONE or phase_plane_unstable(st[S_BETA_EST], b_dot, p)
@@ -1237,6 +1247,7 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
     st[S_REAR_CAP] = -1.0
     if braking < 0.5 or b < 0 or b >= 2 or tg < 0 or tg >= 2 or not (mode == BUILD or mode == HOLD or mode == LIMITED):
         st[S_P_PREDUMP] = -1.0
+        st[S_REAR_OS_CAP] = -1.0
         return
     mu = st[S_MU_MEAS] if st[S_MU_MEAS] > 0.0 else p.blowout_compensation_mu_estimate_frac
     f0, f1, f2, f3 = ecu_loads(p, a_x)
@@ -1264,6 +1275,32 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
             f_rl = max(f_rl, wheel_circle_limit_mu(2, gl[2], a_y_ref, mu, b, p))
             f_rr = max(f_rr, wheel_circle_limit_mu(3, gl[3], a_y_ref, mu, b, p))
         st[S_REAR_CAP] = min(f_rl, f_rr) * r_w / p.brakes_rear_gain_nm_per_pa
+    if p.blowout_compensation_rear_oversteer_flag > 0.5:
+        rear_oversteer_cap(st, b, yaw_rate, p_est, p)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def rear_oversteer_cap(st, b, yaw_rate, p_est, p):
+    """Rear pair in an oversteer toward the blown side (``rear_oversteer_flag``, 0 = seeded defect = the rear pair
+    capped only on a measured friction): while the sideslip phase-plane state is outside the stable region and the
+    slide is the spin toward the blown side (``phase_plane_unstable`` with the direction test of ``spin_front_applies``:
+    yaw toward the blown side, beta_dot + B1*beta away from it), the pair is held at its lower present pressure and
+    lowered one step per period (the ESP's oversteer intervention under braking: the rear axle's brake pressure is
+    reduced so the rear tires get their lateral force back - van Zanten, SAE 2000-01-1633). Back inside the region the
+    cap ends (ABS and the other caps again)."""
+    beta = st[S_BETA_EST]
+    b_dot = st[S_BETA_DOT]
+    spin = (phase_plane_unstable(beta, b_dot, p) and toward_blown_side(b, yaw_rate) > 0.0
+            and toward_blown_side(b, b_dot + p.blowout_compensation_phase_plane_b1_per_s * beta) < 0.0)
+    if spin:
+        low = min(p_est[2], p_est[3])
+        c = st[S_REAR_OS_CAP]
+        c = low if c < 0.0 else min(c, low)
+        st[S_REAR_OS_CAP] = max(c - p.blowout_compensation_rear_oversteer_step_pa, 0.0)
+    else:
+        st[S_REAR_OS_CAP] = -1.0
+    if st[S_REAR_OS_CAP] >= 0.0:
+        st[S_REAR_CAP] = st[S_REAR_OS_CAP] if st[S_REAR_CAP] < 0.0 else min(st[S_REAR_CAP], st[S_REAR_OS_CAP])
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
