@@ -626,6 +626,18 @@ def released_moment_nm(b, tg, braking, p_est, p_add_cmd_pa, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def released_moment_bound_nm(b, a_x, p):
+    """Lower bound [N*m] of the release's yaw moment while the same-axle braked wheel is past its linear region
+    (``release_bound_flag``): a saturated tire carries mu*F_z (friction circle, spec 2.3), and the road friction is at
+    least the car's mean utilisation |a_x|/g (the braking forces sum to m*|a_x| <= mu*m*g), so that wheel's force is at
+    least |a_x|/g*F_z (ECU nominal load, ``ecu_loads``); the released flat wheel carries ~0."""
+    o = OPPOSITE[b]
+    f_o = abs(a_x) / 9.81 * ecu_loads(p, a_x)[o]
+    track = p.chassis_front_track_m if b < 2 else p.chassis_rear_track_m
+    return 0.5 * track * f_o
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def _opposite_linear(st, b, v_ref, a_x, p):
     """Validity of the single-track model of the released moment (``yaw_net_flag``): the same-axle wheel that carries
     the driver's brake force is inside its tire's linear region - its filtered slip (window mean against v_ref) at or
@@ -1035,13 +1047,23 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             # judged yaw: with a real blowout it balances the blowout's moment, with a false detection it is the
             # unbalanced moment the rule must see. Only ever more lenient than the raw rule.
             m_rel = released_moment_nm(b, tg, braking, p_est, st[S_P_REQ] - st[S_P_START], p)
+            linear = _opposite_linear(st, b, v_ref, a_x, p)
+            bound = p.blowout_compensation_release_bound_flag > 0.5
+            if bound and not linear:
+                # beyond the linear region (release_bound_flag): the saturated opposite wheel carries its friction,
+                # mu*F_z, and mu is at least the car's mean utilisation |a_x|/g (sum F_x = m*|a_x| <= mu*m*g): the
+                # release's moment is bounded below by half-track * |a_x|/g * F_z,opposite (ECU nominal load)
+                m_rel = min(m_rel, released_moment_bound_nm(b, a_x, p))
             r_own = toward_blown_side(b, own_yaw_step(st, toward_blown_side(b, -m_rel), v_ref, dt, p))
             if _candidate_ws(vw, v_ref, p.blowout_compensation_wheel_speed_threshold_frac, -1) == b:
                 st[S_OVERSPEED_S] += dt
             else:
                 st[S_OVERSPEED_S] = 0.0
-            if st[S_OVERSPEED_S] >= p.blowout_compensation_detection_delay_s - 1e-9 and _opposite_linear(st, b, v_ref,
-                                                                                                          a_x, p):
+            # beyond the linear region only where a yaw deficit is not the saturated front's understeer: with the
+            # steered reference yaw toward the blown side (a curve toward it) the understeer of a saturated front reads
+            # as yaw away from the blown side, and the raw yaw decides as before
+            if st[S_OVERSPEED_S] >= p.blowout_compensation_detection_delay_s - 1e-9 and (
+                    linear or (bound and toward_blown_side(b, r_ref) <= 0.0)):
                 judged = toward + max(-r_own, 0.0)
         unconfirmed = False
         if st[S_HEALTHY_S] > -0.5:
