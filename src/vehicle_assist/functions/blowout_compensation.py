@@ -58,7 +58,11 @@ over-speed for ``detection_delay_s`` (a released healthy wheel does not: a false
 while the same-axle braked wheel is in its linear region (``_opposite_linear``; beyond it the model does not hold), so
 a real blowout is not rejected for the yaw the release makes (RL 119 km/h, pedal at t_b - 15 ms: 1.39 -> 0.64 m, none
 1.19 m). The compensation pressure stays in the judged yaw: it balances a real blowout's moment and is the unbalanced
-moment of a false detection.
+moment of a false detection. Past the linear region (``release_bound_flag``, 0 = seeded defect = the raw yaw there) the
+release is netted with its friction-circle lower bound (``released_moment_bound_nm``: half-track * |a_x|/g * F_z - a
+saturated tire carries mu*F_z and mu >= |a_x|/g), except while the steered reference yaw points toward the blown side
+(a curve toward it: a saturated front's understeer reads as yaw away, the raw yaw decides); random 61 b128 #101, FL
+110 km/h mu 0.58 straight, pedal from t_b - 0.15 s: rejected at t_b + 0.85 s, 4.34 m -> not rejected, 1.99 m (none 8.51).
 BUILD/HOLD/LIMITED -> REJECTED (signature_unconfirmed; ``tpms_confirm_flag``, 0 = seeded defect; findings_F.md P,
 session 2026-11-24 e): a TPMS-path detection (TPMS only, driver braking) is confirmed by the released wheel - a flat wheel
 freed of the brake spins up toward its free-rolling speed ~50 % above the car's, a healthy one rolls at the car's speed.
