@@ -58,7 +58,11 @@ over-speed for ``detection_delay_s`` (a released healthy wheel does not: a false
 while the same-axle braked wheel is in its linear region (``_opposite_linear``; beyond it the model does not hold), so
 a real blowout is not rejected for the yaw the release makes (RL 119 km/h, pedal at t_b - 15 ms: 1.39 -> 0.64 m, none
 1.19 m). The compensation pressure stays in the judged yaw: it balances a real blowout's moment and is the unbalanced
-moment of a false detection.
+moment of a false detection. Past the linear region (``release_bound_flag``, 0 = seeded defect = the raw yaw there) the
+release is netted with its friction-circle lower bound (``released_moment_bound_nm``: half-track * |a_x|/g * F_z - a
+saturated tire carries mu*F_z and mu >= |a_x|/g), except while the steered reference yaw points toward the blown side
+(a curve toward it: a saturated front's understeer reads as yaw away, the raw yaw decides); random 61 b128 #101, FL
+110 km/h mu 0.58 straight, pedal from t_b - 0.15 s: rejected at t_b + 0.85 s, 4.34 m -> not rejected, 1.99 m (none 8.51).
 BUILD/HOLD/LIMITED -> REJECTED (signature_unconfirmed; ``tpms_confirm_flag``, 0 = seeded defect; findings_F.md P,
 session 2026-11-24 e): a TPMS-path detection (TPMS only, driver braking) is confirmed by the released wheel - a flat wheel
 freed of the brake spins up toward its free-rolling speed ~50 % above the car's, a healthy one rolls at the car's speed.
@@ -143,7 +147,10 @@ arbitration): from the yaw-moment balance of the four brake forces with the blow
 M_z = b_f*(D - F_opp) + b_r*(F_rl - F_rr): the compensating front wheel = drag balance (eqs. 26-28) + a share of the
 driver's pressure within its friction circle, the share only while the measured yaw does not point away from the blown
 side, re-built after an ABS dump to its pressure at the dump's start; the rear pair one cap at the friction circle
-with its lateral share at the measured friction (``rear_circle_flag``; 0 = seeded defect = the linear-region cap).
+with its lateral share at the measured friction (``rear_circle_flag``; 0 = seeded defect = the linear-region cap);
+in an oversteer toward the blown side (outside the sideslip phase-plane region, Inagaki 1994, the slide of the spin
+toward the blown side) the pair is held and lowered 1 bar per period, also before any measured friction
+(``rear_oversteer_flag``, ``rear_oversteer_cap``; 0 = seeded defect = no rear cap without a measured friction).
 Understeer rule (``understeer_flag``, 0 = seeded defect = the code before; ``understeer_rule``; findings_F.md R3/X): a
 FRONT blowout compensated on the other front wheel, driver not braking, the capacity rule having measured a friction
 below the nominal on that wheel, the steering reference (``reference_yaw_rate``) toward the blown side (the blown wheel
@@ -245,7 +252,11 @@ S_PAIR_LOW = S_REAPPLY_P + 1
 # after an understeer, 0 otherwise
 S_US_LIMITED = S_PAIR_LOW + 1
 S_US_PLAN = S_US_LIMITED + 1  # the compensating wheel's target before the understeer rule lowered it [Pa]
-STATE_SIZE = S_US_PLAN + 1
+# braking rule, rear pair in an oversteer toward the blown side (``rear_oversteer_flag``): the kinematic sideslip rate
+# a_y/u - r of the last period [rad/s] (the phase-plane state with S_BETA_EST) and the cap it set on the pair [Pa] (-1 none)
+S_BETA_DOT = S_US_PLAN + 1
+S_REAR_OS_CAP = S_BETA_DOT + 1
+STATE_SIZE = S_REAR_OS_CAP + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -297,6 +308,7 @@ def initial_state() -> np.ndarray:
     st[S_P_PREDUMP] = -1.0
     st[S_HEALTHY_S] = -1.0
     st[S_REAPPLY] = -1.0
+    st[S_REAR_OS_CAP] = -1.0
     return st
 
 
@@ -629,6 +641,18 @@ def released_moment_nm(b, tg, braking, p_est, p_add_cmd_pa, p):
     if b < 2:
         return 0.5 * p.chassis_front_track_m * p.brakes_front_gain_nm_per_pa * dp / p.body_wheel_radius_m
     return 0.5 * p.chassis_rear_track_m * p.brakes_rear_gain_nm_per_pa * dp / p.body_wheel_radius_m
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def released_moment_bound_nm(b, a_x, p):
+    """Lower bound [N*m] of the release's yaw moment while the same-axle braked wheel is past its linear region
+    (``release_bound_flag``): a saturated tire carries mu*F_z (friction circle, spec 2.3), and the road friction is at
+    least the car's mean utilisation |a_x|/g (the braking forces sum to m*|a_x| <= mu*m*g), so that wheel's force is at
+    least |a_x|/g*F_z (ECU nominal load, ``ecu_loads``); the released flat wheel carries ~0."""
+    o = OPPOSITE[b]
+    f_o = abs(a_x) / 9.81 * ecu_loads(p, a_x)[o]
+    track = p.chassis_front_track_m if b < 2 else p.chassis_rear_track_m
+    return 0.5 * track * f_o
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -993,6 +1017,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                 st[S_LIMIT_CODE] = LIMIT_OTHER_AXLE if inlet_ok[target] > 0.5 else LIMIT_NO_AUTHORITY
             _plan(st, b, target, new == LIMITED, slip_mean, a_x, a_y_ref, p_est, p)
             st[S_BETA_EST] = 0.0  # kinematic sideslip estimate, integrated from the detection
+            st[S_BETA_DOT] = 0.0
             st[S_BETA_OWN] = 0.0  # the model of the function's own yaw moment starts at the detection (yaw_net_flag)
             st[S_R_OWN] = 0.0
             st[S_OVERSPEED_S] = 0.0
@@ -1041,19 +1066,30 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             # judged yaw: with a real blowout it balances the blowout's moment, with a false detection it is the
             # unbalanced moment the rule must see. Only ever more lenient than the raw rule.
             m_rel = released_moment_nm(b, tg, braking, p_est, st[S_P_REQ] - st[S_P_START], p)
+            linear = _opposite_linear(st, b, v_ref, a_x, p)
+            bound = p.blowout_compensation_release_bound_flag > 0.5
+            if bound and not linear:
+                # beyond the linear region (release_bound_flag): the saturated opposite wheel carries its friction,
+                # mu*F_z, and mu is at least the car's mean utilisation |a_x|/g (sum F_x = m*|a_x| <= mu*m*g): the
+                # release's moment is bounded below by half-track * |a_x|/g * F_z,opposite (ECU nominal load)
+                m_rel = min(m_rel, released_moment_bound_nm(b, a_x, p))
             r_own = toward_blown_side(b, own_yaw_step(st, toward_blown_side(b, -m_rel), v_ref, dt, p))
             if _candidate_ws(vw, v_ref, p.blowout_compensation_wheel_speed_threshold_frac, -1) == b:
                 st[S_OVERSPEED_S] += dt
             else:
                 st[S_OVERSPEED_S] = 0.0
-            if st[S_OVERSPEED_S] >= p.blowout_compensation_detection_delay_s - 1e-9 and _opposite_linear(st, b, v_ref,
-                                                                                                          a_x, p):
+            # beyond the linear region only where a yaw deficit is not the saturated front's understeer: with the
+            # steered reference yaw toward the blown side (a curve toward it) the understeer of a saturated front reads
+            # as yaw away from the blown side, and the raw yaw decides as before
+            if st[S_OVERSPEED_S] >= p.blowout_compensation_detection_delay_s - 1e-9 and (
+                    linear or (bound and toward_blown_side(b, r_ref) <= 0.0)):
                 judged = toward + max(-r_own, 0.0)
         unconfirmed = False
         if st[S_HEALTHY_S] > -0.5:
             unconfirmed = released_wheel_healthy(st, b, v_ref, a_x, p_est, dt, p)
         b_dot = a_y_meas / v_ref - yaw_rate_meas if v_ref > 1.0 else 0.0  # beta_dot = a_y/u - r (kinematic)
         st[S_BETA_EST] += b_dot * dt
+        st[S_BETA_DOT] = b_dot
         code = unstable_code(yaw_rate_meas, st[S_BETA_EST], v_ref, p)
         # spin-front trigger (phase_plane_flag): the mu-0.8 bounds or the friction-free sideslip phase plane
         spin = code != LIMIT_NONE or phase_plane_unstable(st[S_BETA_EST], b_dot, p)
@@ -1295,6 +1331,7 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
     st[S_REAR_CAP] = -1.0
     if braking < 0.5 or b < 0 or b >= 2 or tg < 0 or tg >= 2 or not (mode == BUILD or mode == HOLD or mode == LIMITED):
         st[S_P_PREDUMP] = -1.0
+        st[S_REAR_OS_CAP] = -1.0
         return
     mu = st[S_MU_MEAS] if st[S_MU_MEAS] > 0.0 else p.blowout_compensation_mu_estimate_frac
     f0, f1, f2, f3 = ecu_loads(p, a_x)
@@ -1322,6 +1359,32 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
             f_rl = max(f_rl, wheel_circle_limit_mu(2, gl[2], a_y_ref, mu, b, p))
             f_rr = max(f_rr, wheel_circle_limit_mu(3, gl[3], a_y_ref, mu, b, p))
         st[S_REAR_CAP] = min(f_rl, f_rr) * r_w / p.brakes_rear_gain_nm_per_pa
+    if p.blowout_compensation_rear_oversteer_flag > 0.5:
+        rear_oversteer_cap(st, b, yaw_rate, p_est, p)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def rear_oversteer_cap(st, b, yaw_rate, p_est, p):
+    """Rear pair in an oversteer toward the blown side (``rear_oversteer_flag``, 0 = seeded defect = the rear pair
+    capped only on a measured friction): while the sideslip phase-plane state is outside the stable region and the
+    slide is the spin toward the blown side (``phase_plane_unstable`` with the direction test of ``spin_front_applies``:
+    yaw toward the blown side, beta_dot + B1*beta away from it), the pair is held at its lower present pressure and
+    lowered one step per period (the ESP's oversteer intervention under braking: the rear axle's brake pressure is
+    reduced so the rear tires get their lateral force back - van Zanten, SAE 2000-01-1633). Back inside the region the
+    cap ends (ABS and the other caps again)."""
+    beta = st[S_BETA_EST]
+    b_dot = st[S_BETA_DOT]
+    spin = (phase_plane_unstable(beta, b_dot, p) and toward_blown_side(b, yaw_rate) > 0.0
+            and toward_blown_side(b, b_dot + p.blowout_compensation_phase_plane_b1_per_s * beta) < 0.0)
+    if spin:
+        low = min(p_est[2], p_est[3])
+        c = st[S_REAR_OS_CAP]
+        c = low if c < 0.0 else min(c, low)
+        st[S_REAR_OS_CAP] = max(c - p.blowout_compensation_rear_oversteer_step_pa, 0.0)
+    else:
+        st[S_REAR_OS_CAP] = -1.0
+    if st[S_REAR_OS_CAP] >= 0.0:
+        st[S_REAR_CAP] = st[S_REAR_OS_CAP] if st[S_REAR_CAP] < 0.0 else min(st[S_REAR_CAP], st[S_REAR_OS_CAP])
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
