@@ -137,6 +137,14 @@ def test_build_variants_falls_back_when_not_exact():
         build_variants(sc, {"vehicle.body.mass_kg": ["heavy"]})
 
 
+@pytest.mark.parametrize("axes, needle", [({}, "no axes"), ({"vehicle.body.mass_kg": []}, "no values")])
+def test_build_variants_without_axes_or_values_is_a_clear_error(axes, needle):
+    # (no axes used to raise numpy's "multiple indices are not supported for 0d arrays" from the record builder)
+    base = va.load_scenario("truck_11deg_late_release")
+    with pytest.raises(ValueError, match=needle):
+        build_variants(base, axes)
+
+
 def test_batch_without_metrics_and_unknown_metric():
     """``metric_names=[]`` runs the variants without metrics (the study and falsify paths ask for this); an unknown
     metric name is still the numpy path's one-line error."""

@@ -124,6 +124,8 @@ def _axes_list(axes) -> list[tuple[str, list]]:
         if not values:
             raise ValueError(f"axis {path}: no values")
         out.append((str(path), values))
+    if not out:
+        raise ValueError("no axes: give at least one path with its values (a single run is simulate(base))")
     return out
 
 
