@@ -83,8 +83,11 @@ class VariantSet:
         return tuple(assignment(path, values[i]) for (path, values), i in zip(self.axes, self.indices(k)))
 
     def overrides(self) -> list[tuple[str, ...]]:
+        """``base.sets + sets(k)`` of every variant (each axis value's ``--set`` text formatted once)."""
         base = tuple(self.base.sets)
-        return [base + self.sets(k) for k in range(len(self))]
+        texts = [[assignment(path, v) for v in values] for path, values in self.axes]
+        idx = np.unravel_index(np.arange(self.start, self.start + len(self)), [len(v) for _, v in self.axes])
+        return [base + tuple(t[i] for t, i in zip(texts, combo)) for combo in zip(*[a.tolist() for a in idx])]
 
     def scenario(self, k: int) -> LoadedScenario:
         """Variant ``k`` as a scenario (built and validated the slow way)."""
