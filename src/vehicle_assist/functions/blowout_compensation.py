@@ -100,6 +100,19 @@ Its trigger also reads the friction-free sideslip phase plane (``phase_plane_uns
 defect = the mu-0.8 bounds alone): |beta_dot + B1*beta| > B2 (Inagaki et al. 1994, dry road), beta_dot = a_y/u - r
 measured - on mu 0.48 the mu-0.8 yaw bound was crossed only late in the slide (random 7 #7: 3.39 s, 17.33 m vs none
 15.94; with it 2.36 s, 13.33 m). The refusal keeps the mu-0.8 bounds.
+LIMITED (code 5) -> BUILD (spin_stopped; ``spin_exit_flag``, 0 = seeded defect = no exit, the front braked to the end
+of the run; session 2026-11-24 f, ``spin_stopped``): the car back inside the stable region - the mu-0.8 bounds, the
+phase plane, the yaw rate relative to the steered reference not toward the blown side beyond the closed-loop dead band
+(an ESP ends its oversteer intervention once the yaw deviation is back in its dead band) and the yaw angle the spin
+turned the car toward the blown side (S_PSI_ERR, the integral of that deviation from the detection) taken back - for
+the 2 % settling time 8/a_1 of the ECU's single-track yaw mode (``settling_time_s``, 1.00 s at 120 km/h): the front
+wheel is released and the rear compensating wheel re-planned to the balance (eqs. 13-28, the rear limits guarding it);
+a new spin moves the counter-brake to the front again. Fixed holds of 0.1-0.5 s without the heading condition exited
+at the yaw swing-back and re-spun the car (RL 120 km/h 650 m, mu scale 0.3, held: 4.16-8.00 m vs 1.39 m without an
+exit); the settling time without the heading condition: 1.95 m there, spin points 7.81 / 7.80 m (7.17 / 6.78 without
+an exit). RL 120 km/h 650 m points (open item 5): 1.39 / 1.85 / 1.74 m -> 0.66 / 0.98 / 1.71 m (none 6.33 / 6.93 /
+15.27 m). Not yet: after the exit the rear balance is planned at the nominal mu 0.8 with no friction evidence; on mu
+scale 0.3-0.45 the car re-spins (the front again) or oversteers slowly inside both bounds (findings_F.md Z).
 Rear compensating wheel (``slip_limit_flag``, 0 = seeded defect; falsification of issue #10): its brake force is
 kept below the slip where braking starts to cut its lateral force (Dugoff f(H) >= 1 - s; round 3 - with the nominal
 mu alone this limit made two low-friction points worse than none in round 2, the measured tire capacity below now
