@@ -30,8 +30,8 @@ def _sets(speed, mu, delay, wheel, driver, radius):
 # (name, speed km/h, friction scale, delay s, wheel, driver, radius m): no exit / exit / none [m]
 CASES = [
     ("rl120_030_fixed_r650", 120.0, 0.3, 0.1, 2, "fixed", 650),  # 1.388 / 0.660 / 6.328
-    ("rl120_030_follow_r650", 120.0, 0.3, 0.1, 2, "follow", 650),  # 1.851 / 1.309 (0.984 before the re-entry) / 6.932
-    ("rl120_045_follow_r650", 120.0, 0.45, 0.1, 2, "follow", 650),  # 1.737 / 1.708 / 15.269
+    ("rl120_030_follow_r650", 120.0, 0.3, 0.1, 2, "follow", 650),  # 1.851 / 1.308 (0.984 released at once) / 6.932
+    ("rl120_045_follow_r650", 120.0, 0.45, 0.1, 2, "follow", 650),  # 1.737 / 1.725 (1.708 at once) / 15.269
 ]
 
 
@@ -57,11 +57,30 @@ def _front_released_after_exit(r):
     return bool((c["wheel_pressure_fr_pa"][after] < 1.0e5).any())
 
 
+def _spin_again(r):
+    """A new spin moved the counter-brake to the front again (-> LIMITED after the first exit) - with the ramped release
+    (spin_release_ramp_flag) this can come before the ramp reaches 0 (RL 120 km/h 0.3 following: exit 3.55 s, again
+    at 4.37 s)."""
+    ex = _exits(r)
+    return bool(ex) and any(e.machine == "blowout_compensation" and e.to_mode == "LIMITED" and e.time_s > ex[0]
+                            for e in r.events)
+
+
+def _ramp_cut_by_run_end(r):
+    """The run ended inside the ramp (exit + 8/a_1 = 1.0 s at 120 km/h after the 5 s run: RL 120 km/h 0.45 following,
+    exit 4.71 s at 29 bar, 18 bar at 5 s) and the right front's pressure at the end is below its pressure at the exit
+    (by more than the 1 bar the ramp's dump/hold band allows)."""
+    c = r.trace.channels
+    t, p_fr = c["time_s"], c["wheel_pressure_fr_pa"]
+    k = int((t >= _exits(r)[0]).argmax())
+    return t[-1] < _exits(r)[0] + 1.0 and float(p_fr[-1]) < float(p_fr[k]) - 1.0e5
+
+
 def test_spin_front_wheel_released_once_the_spin_is_over(case):
     """The oversteer intervention ends: the spin stopped (row LIMITED->BUILD spin_stopped) and the right front wheel
     goes back to the driver's pressure (none here: < 1 bar); the run no farther off than without compensation."""
     on = case["on"]
-    assert _exits(on) and _front_released_after_exit(on)
+    assert _exits(on) and (_front_released_after_exit(on) or _spin_again(on) or _ramp_cut_by_run_end(on))
     assert on.metrics[METRIC] <= case["off"].metrics[METRIC]
 
 
@@ -72,42 +91,45 @@ def test_without_the_exit_the_front_stays_braked(case):
     assert float(d.trace.channels["wheel_pressure_fr_pa"][-1]) > 5.0e5
 
 
-# Re-entry after an exit (spin_reentry_flag, functions/blowout_compensation.py spin_resumed): the rear-grid point where
-# the exit did most harm (findings_F.md Z: RL 120 km/h, friction scale 0.45, wheel held, 650 m, detection 0.4 s): after
-# the exit at 3.10 s the rear re-planned at the nominal mu 0.8 and the car oversteered slowly inside both stability
-# bounds to the end. No exit 1.688 m, exit without re-entry 2.524 m, with it 1.709 m (none 13.958 m).
-REENTRY_PT = (120.0, 0.45, 0.4, 2, "fixed", 650)
-REENTRY0 = ["vehicle.blowout_compensation.spin_reentry_flag=0"]
+
+# Ramped release of the front at the exit (spin_release_ramp_flag): the rear-grid points where the exit released at once
+# did harm (findings_F.md Z/Z2: RL, held driver, 650 m, detection 0.4 s): the car yawed back toward the blown side at
+# once (100 km/h 0.3: exit 3.94 s, 0.062 rad/s at 4.25 s). Run max [m] no exit / released at once / ramp (none):
+# 100 km/h 0.3: 3.402 / 3.780 / 3.357 (10.188); 120 km/h 0.3: 2.875 / 3.193 / 2.851 (6.328); 120 km/h 0.45: 1.688 /
+# 2.524 / 1.687 (13.958).
+RAMP_CASES = [
+    ("rl100_030_fixed_d04", 100.0, 0.3, 0.4, 2, "fixed", 650),
+    ("rl120_030_fixed_d04", 120.0, 0.3, 0.4, 2, "fixed", 650),
+    ("rl120_045_fixed_d04", 120.0, 0.45, 0.4, 2, "fixed", 650),
+]
+RAMP0 = ["vehicle.blowout_compensation.spin_release_ramp_flag=0"]
 
 
-@pytest.fixture(scope="module")
-def reentry_case():
-    sets = _sets(*REENTRY_PT)
+@pytest.fixture(scope="module", params=RAMP_CASES, ids=[c[0] for c in RAMP_CASES])
+def ramp_case(request):
+    sets = _sets(*request.param[1:])
     return {"on": va.simulate(va.load_scenario(BASE_ON, sets=sets)),
-            "defect": va.simulate(va.load_scenario(BASE_ON, sets=sets + REENTRY0)),
+            "at_once": va.simulate(va.load_scenario(BASE_ON, sets=sets + RAMP0)),
             "no_exit": va.simulate(va.load_scenario(BASE_ON, sets=sets + EXIT0)),
             "off": va.simulate(va.load_scenario(BASE_OFF, sets=sets))}
 
 
-def _reentries(r):
-    ex = _exits(r)
-    return [e.time_s for e in r.events if e.machine == "blowout_compensation" and e.to_mode == "LIMITED"
-            and ex and e.time_s > ex[0]]
+def test_exit_no_worse_than_without_it(ramp_case):
+    """Task Z2 acceptance on the points the exit made worse: with the ramped release the run is no farther off than
+    without the exit (spin_exit_flag = 0) and than none; the exit happened. Negative control: released at once
+    (spin_release_ramp_flag = 0, the code before) the same points are farther off than without the exit."""
+    on, d = ramp_case["on"], ramp_case["at_once"]
+    assert _exits(on)
+    assert on.metrics[METRIC] <= ramp_case["no_exit"].metrics[METRIC] <= ramp_case["off"].metrics[METRIC]
+    assert d.metrics[METRIC] > ramp_case["no_exit"].metrics[METRIC]
 
 
-def test_spin_front_taken_up_again_after_the_exit(reentry_case):
-    """After the exit the yaw deviation toward the blown side leaves the dead band: the front counter-brake is taken up
-    again (BUILD/HOLD -> LIMITED after the first spin_stopped) and the car ends less far off than with the exit alone
-    (the negative control, spin_reentry_flag = 0: the slow oversteer to the end of the run, no re-entry)."""
-    on, d = reentry_case["on"], reentry_case["defect"]
-    assert _reentries(on) and not _reentries(d)
-    assert on.metrics[METRIC] < d.metrics[METRIC]
-    assert on.metrics[METRIC] <= reentry_case["off"].metrics[METRIC]
-
-
-@pytest.mark.xfail(strict=True, reason="open (findings_F.md Z, task Z2): with the re-entry 1.709 m vs 1.688 m without "
-                   "the exit (RL 100/120 km/h 0.3 held 0.4 s: 3.639/3.077 vs 3.402/2.875 m) - the front released at "
-                   "the exit and the rear re-planned at mu 0.8 let the car yaw toward the blown side until re-entry")
-def test_reentry_point_no_worse_than_without_the_exit(reentry_case):
-    """Acceptance of task Z2: no rear-grid point worse than with spin_exit_flag = 0."""
-    assert reentry_case["on"].metrics[METRIC] <= reentry_case["no_exit"].metrics[METRIC]
+def test_front_pressure_withdrawn_gradually(ramp_case):
+    """The spin-front wheel (FR) is not at 0 bar 0.1 s after the exit with the ramp (the ramp lasts the settling time
+    8/a_1, 0.84-1.0 s here) and is with the release at once (< 1 bar)."""
+    def fr_after(r):
+        c = r.trace.channels
+        k = int((c["time_s"] >= _exits(r)[0] + 0.1).argmax())
+        return float(c["wheel_pressure_fr_pa"][k])
+    assert fr_after(ramp_case["on"]) > 1.0e5
+    assert fr_after(ramp_case["at_once"]) < 1.0e5

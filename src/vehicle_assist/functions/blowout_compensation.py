@@ -253,9 +253,14 @@ S_PAIR_LOW = S_REAPPLY_P + 1
 S_SPIN_OK_S = S_PAIR_LOW + 1
 # yaw angle the car has turned toward the blown side relative to the steered reference since the detection [rad]
 S_PSI_ERR = S_SPIN_OK_S + 1
-# 1 once the spin-front rule has ended (spin_exit_flag) and the rear is compensating again (spin_reentry_flag)
+# 1 once the spin-front rule has ended (spin_exit_flag) and the rear is compensating again
 S_SPIN_EXITED = S_PSI_ERR + 1
-STATE_SIZE = S_SPIN_EXITED + 1
+# ramped release of the spin-front wheel after the exit (spin_release_ramp_flag): its pressure at the exit [Pa], the
+# time since the exit [s] and the ramp's duration, the settling time 8/a_1 at the exit speed [s]
+S_RAMP_P0 = S_SPIN_EXITED + 1
+S_RAMP_T = S_RAMP_P0 + 1
+S_RAMP_DUR = S_RAMP_T + 1
+STATE_SIZE = S_RAMP_DUR + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -940,22 +945,6 @@ def settling_time_s(speed_mps, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def spin_resumed(st, b, yaw_rate, inlet_ok, p):
-    """``spin_reentry_flag`` (0 = seeded defect: after an exit only the mu-0.8 bounds / the phase plane re-enter): after
-    the spin-front rule has ended (``spin_stopped``) the front counter-brake is taken up again as soon as the yaw rate
-    relative to the steered reference points toward the blown side beyond the same closed-loop dead band whose return
-    ended it (an ESP starts its oversteer intervention on a yaw deviation beyond its dead band and ends it inside,
-    Bosch Automotive Handbook, ESP; entry and exit share that source) and the car has turned toward the blown side
-    since the exit (S_PSI_ERR > 0, the exit's heading condition mirrored): the rear balance re-planned at the nominal
-    mu 0.8 can exceed a low road's friction after the exit and the car then oversteers slowly inside both stability
-    bounds (RL 120 km/h mu 0.45 held, 0.4 s detection: 5.8 deg/s at 5 s, findings_F.md Z). Rear blown wheel only (the
-    spin-front rule's case), the front wheel of the blown side healthy."""
-    if p.blowout_compensation_spin_reentry_flag < 0.5 or b < 2 or inlet_ok[_substitute(b)] < 0.5:
-        return False
-    return toward_blown_side(b, yaw_rate) > p.blowout_compensation_yaw_deadband_radps and st[S_PSI_ERR] > 0.0
-
-
-@nb.njit(cache=True, nogil=True, error_model="numpy")
 def spin_stopped(st, b, yaw_rate, code, beta_dot, speed_mps, inlet_ok, dt, p):
     """``spin_exit_flag`` (0 = seeded defect = no exit: the spin-front wheel braked to the end of the run; open item 5 of
     session 2026-11-24 e): while the spin-front wheel is braked (LIMITED, code 5), True once the car has stayed back
@@ -1126,8 +1115,6 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         # spin-front trigger (phase_plane_flag): the mu-0.8 bounds or the friction-free sideslip phase plane
         spin = code != LIMIT_NONE or phase_plane_unstable(st[S_BETA_EST], b_dot, p)
         spin_over = False
-        # re-entry after an exit on the yaw deviation beyond the dead band that ended it (spin_reentry_flag)
-        spin_again = mode != LIMITED and st[S_SPIN_EXITED] > 0.5 and spin_resumed(st, b, yaw_rate, inlet_ok, p)
         if mode == LIMITED and st[S_LIMIT_CODE] == LIMIT_SPIN_FRONT:
             spin_over = spin_stopped(st, b, yaw_rate, code, b_dot, v_ref, inlet_ok, dt, p)
         if (mode == BUILD or mode == HOLD) and inlet_ok[tg] < 0.5:
@@ -1160,8 +1147,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_CLEAR_S] = 0.0
             st[S_SUSPECT] = -1.0
             st[S_SUSPECT_S] = 0.0
-        elif spin_again or (spin and mode != LIMITED and spin_front_applies(b, tg, yaw_rate_meas, code,
-                                                                            st[S_BETA_EST], b_dot, inlet_ok, p)):
+        elif spin and mode != LIMITED and spin_front_applies(b, tg, yaw_rate_meas, code, st[S_BETA_EST], b_dot,
+                                                             inlet_ok, p):
             # rear blowout, beyond the stable region, rotating toward the blown side: stop loading the rear axle and
             # brake the front wheel of the same side instead (spin_front_flag; module doc)
             sub = _substitute(b)
@@ -1178,7 +1165,10 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             _plan(st, b, OPPOSITE[b], False, st[S_SLIP_EST], a_x, a_y_ref, p_est, p)
             st[S_LIMIT_CODE] = LIMIT_NONE
             st[S_SPIN_EXITED] = 1.0
-            st[S_PSI_ERR] = 0.0  # the heading toward the blown side counted again from the exit (spin_reentry_flag)
+            st[S_RAMP_P0] = p_est[_substitute(b)]
+            st[S_RAMP_T] = 0.0
+            st[S_RAMP_DUR] = settling_time_s(v_ref, p)
+            st[S_PSI_ERR] = 0.0  # the heading toward the blown side counted again from the exit (for a new spin's exit)
             n_events = log_event(events, n_events, t, machine_id, mode, BUILD, G_SPIN_STOPPED)
             mode = BUILD
         elif code != LIMIT_NONE and not (mode == LIMITED and st[S_LIMIT_CODE] == LIMIT_SPIN_FRONT):
@@ -1205,6 +1195,16 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     tg = int(st[S_TARGET])
     if b >= 0:
         requests[b] = Q_RELEASE
+    if (p.blowout_compensation_spin_release_ramp_flag > 0.5 and b >= 2 and st[S_SPIN_EXITED] > 0.5
+            and mode != LIMITED and st[S_RAMP_T] < st[S_RAMP_DUR]):
+        # spin_release_ramp_flag: after the exit the spin-front wheel's pressure is withdrawn linearly to 0 over the
+        # settling time of the single-track yaw mode (settling_time_s at the exit speed), not dumped at once: its
+        # counter-moment goes no faster than the car's yaw mode settles, and the rear's re-planned balance builds
+        # meanwhile (valve time, eq. 30); above the ramp the wheel is dumped, below it held (never built)
+        st[S_RAMP_T] += dt
+        sub = _substitute(b)
+        allowed = st[S_RAMP_P0] * (1.0 - st[S_RAMP_T] / st[S_RAMP_DUR])
+        requests[sub] = Q_RELEASE if p_est[sub] > allowed + 1.0e5 else Q_HOLD
     if tg >= 0 and inlet_ok[tg] > 0.5:
         if mode == BUILD:
             requests[tg] = Q_BUILD
