@@ -364,8 +364,14 @@ def test_row_limited_build_spin_stopped(params):
     assert e.mode == "LIMITED" and int(e.st[bc.S_TARGET]) == 1
     e.run(0.2, **BLOWN_RL)
     assert e.rows[-1] == ("LIMITED", "BUILD", "spin_stopped") and int(e.st[bc.S_TARGET]) == 3
-    assert e.req[1] == bc.Q_NONE and e.req[3] == bc.Q_BUILD and e.req[2] == bc.Q_RELEASE
+    # FR withdrawn along the ramp over the settling time (spin_release_ramp_flag: held / dumped, never built), then NONE
+    assert e.req[1] in (bc.Q_HOLD, bc.Q_RELEASE) and e.req[3] == bc.Q_BUILD and e.req[2] == bc.Q_RELEASE
     assert e.st[bc.S_LIMIT_CODE] == bc.LIMIT_NONE
+    e.run(0.55, **BLOWN_RL)
+    assert e.req[1] == bc.Q_NONE and e.req[2] == bc.Q_RELEASE
+    a = spin(blowout_compensation_spin_release_ramp_flag=0.0).run(0.5, yaw=-0.05, a_y=-V * 0.05, **BLOWN_RL)
+    a.run(0.5, **BLOWN_RL)
+    assert a.rows[-1] == ("LIMITED", "BUILD", "spin_stopped") and a.req[1] == bc.Q_NONE  # ramp flag 0: at once
     h = spin().run(1.0, **BLOWN_RL)  # straight on at once: the spin's heading never taken back
     assert h.mode == "LIMITED" and h.st[bc.S_PSI_ERR] > 0.0
     d = spin(blowout_compensation_spin_exit_flag=0.0).run(0.5, yaw=-0.05, a_y=-V * 0.05, **BLOWN_RL).run(1.0, **BLOWN_RL)
