@@ -106,13 +106,15 @@ phase plane, the yaw rate relative to the steered reference not toward the blown
 (an ESP ends its oversteer intervention once the yaw deviation is back in its dead band) and the yaw angle the spin
 turned the car toward the blown side (S_PSI_ERR, the integral of that deviation from the detection) taken back - for
 the 2 % settling time 8/a_1 of the ECU's single-track yaw mode (``settling_time_s``, 1.00 s at 120 km/h): the front
-wheel is released and the rear compensating wheel re-planned to the balance (eqs. 13-28, the rear limits guarding it);
+wheel is released - linearly over that same settling time (``spin_release_ramp_flag``, 0 = at once; released at once the
+car yawed back toward the blown side on the held-driver 0.4 s points, 4 grid points worse than without the exit, none
+with the ramp) - and the rear compensating wheel re-planned to the balance (eqs. 13-28, the rear limits guarding it);
 a new spin moves the counter-brake to the front again. Fixed holds of 0.1-0.5 s without the heading condition exited
 at the yaw swing-back and re-spun the car (RL 120 km/h 650 m, mu scale 0.3, held: 4.16-8.00 m vs 1.39 m without an
 exit); the settling time without the heading condition: 1.95 m there, spin points 7.81 / 7.80 m (7.17 / 6.78 without
 an exit). RL 120 km/h 650 m points (open item 5): 1.39 / 1.85 / 1.74 m -> 0.66 / 0.98 / 1.71 m (none 6.33 / 6.93 /
-15.27 m). Not yet: after the exit the rear balance is planned at the nominal mu 0.8 with no friction evidence; on mu
-scale 0.3-0.45 the car re-spins (the front again) or oversteers slowly inside both bounds (findings_F.md Z).
+15.27 m); with the ramp 0.66 / 1.31 / 1.73 m. The rear balance after the exit is still planned at the nominal mu 0.8
+(findings_F.md Z, Z2).
 Rear compensating wheel (``slip_limit_flag``, 0 = seeded defect; falsification of issue #10): its brake force is
 kept below the slip where braking starts to cut its lateral force (Dugoff f(H) >= 1 - s; round 3 - with the nominal
 mu alone this limit made two low-friction points worse than none in round 2, the measured tire capacity below now
