@@ -344,6 +344,40 @@ def test_rows_idle_rejected_limited_spin_front(params):
     assert r.rows[-1] == ("REJECTED", "LIMITED", "beyond_stable_region") and int(r.st[bc.S_TARGET]) == 1
 
 
+def test_row_limited_build_spin_stopped(params):
+    """LIMITED->BUILD (spin_stopped, spin_exit_flag): the spin-front wheel FR braked (code 5), then the car rotates back
+    (2.9 deg/s away from the blown side, below the ESP's 5 deg/s dump; a_y = u*r: no sideslip growth) until the spin's
+    heading is taken back, then rolls straight: after the single-track settling time at 60 km/h (8/a_1 = 0.50 s for the
+    BJ2500's nominal data, closed form in the docstring of settling_time_s) FR is released (NONE) and RR re-planned to
+    the balance (BUILD). Not before the settling time, not while the heading is not taken back; flag 0 (the code
+    before): LIMITED to the end."""
+    def spin(**ch):
+        e = Ecu(params, **ch).run(0.2).run(0.055, **BLOWN_RL)
+        return e.run(0.05, yaw=1.1 * R_BOUND, a_y=V * 1.1 * R_BOUND, **BLOWN_RL)
+
+    assert bc.settling_time_s(V, params) == pytest.approx(0.50, abs=0.01)
+    e = spin()
+    assert e.mode == "LIMITED" and e.st[bc.S_LIMIT_CODE] == bc.LIMIT_SPIN_FRONT and int(e.st[bc.S_TARGET]) == 1
+    e.run(0.5, yaw=-0.05, a_y=-V * 0.05, **BLOWN_RL)  # 0.5 s * 0.05 rad/s = 0.025 rad > the spin's 0.44 * 0.05 s
+    assert e.mode == "LIMITED" and e.st[bc.S_PSI_ERR] < 0.0
+    e.run(0.3, **BLOWN_RL)  # inside since the heading was taken back (~0.44 s into the rotation back): < 0.50 s
+    assert e.mode == "LIMITED" and int(e.st[bc.S_TARGET]) == 1
+    e.run(0.2, **BLOWN_RL)
+    assert e.rows[-1] == ("LIMITED", "BUILD", "spin_stopped") and int(e.st[bc.S_TARGET]) == 3
+    # FR withdrawn along the ramp over the settling time (spin_release_ramp_flag: held / dumped, never built), then NONE
+    assert e.req[1] in (bc.Q_HOLD, bc.Q_RELEASE) and e.req[3] == bc.Q_BUILD and e.req[2] == bc.Q_RELEASE
+    assert e.st[bc.S_LIMIT_CODE] == bc.LIMIT_NONE
+    e.run(0.55, **BLOWN_RL)
+    assert e.req[1] == bc.Q_NONE and e.req[2] == bc.Q_RELEASE
+    a = spin(blowout_compensation_spin_release_ramp_flag=0.0).run(0.5, yaw=-0.05, a_y=-V * 0.05, **BLOWN_RL)
+    a.run(0.5, **BLOWN_RL)
+    assert a.rows[-1] == ("LIMITED", "BUILD", "spin_stopped") and a.req[1] == bc.Q_NONE  # ramp flag 0: at once
+    h = spin().run(1.0, **BLOWN_RL)  # straight on at once: the spin's heading never taken back
+    assert h.mode == "LIMITED" and h.st[bc.S_PSI_ERR] > 0.0
+    d = spin(blowout_compensation_spin_exit_flag=0.0).run(0.5, yaw=-0.05, a_y=-V * 0.05, **BLOWN_RL).run(1.0, **BLOWN_RL)
+    assert d.mode == "LIMITED" and int(d.st[bc.S_TARGET]) == 1
+
+
 TPMS_BRAKING = dict(tpms=1.0, braking=1.0, a_x=0.0)  # a TPMS alarm on LF while the driver brakes (TPMS path)
 
 
@@ -401,7 +435,7 @@ def test_every_machine_row_has_a_test_above():
                ("BUILD", "LIMITED", "beyond_stable_region"), ("HOLD", "LIMITED", "beyond_stable_region"),
                ("IDLE", "LIMITED", "beyond_stable_region"), ("REJECTED", "LIMITED", "beyond_stable_region"),
                ("BUILD", "REJECTED", "signature_unconfirmed"), ("HOLD", "REJECTED", "signature_unconfirmed"),
-               ("LIMITED", "REJECTED", "signature_unconfirmed")}
+               ("LIMITED", "REJECTED", "signature_unconfirmed"), ("LIMITED", "BUILD", "spin_stopped")}
     assert {(t.source, t.target, t.guard) for t in bc.MACHINE.transitions} == covered
 
 
