@@ -68,28 +68,22 @@ def test_noisy_dump_point_worse_with_the_defect(env, p15):
     assert before > p15["off"]
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "#16 is not fixed by the braking rule (0.96 -> 0.54 m, rear friction-circle cap 0.47 m, none 0.23 m): the excess is there before the pedal - "
-    "without any pedal the compensated car ends 0.55 m off (none 0.58 m): at the pedal (t_b + 1.09 s) it is already "
-    "drifting outward at ~0.25 m/s (over-compensation of the no-brake feed-forward on this wet curve, finding F6 "
-    "'knife edge': 1 % pad-friction change moves it 0.4 m), while the uncompensated twin is on the other side of the "
-    "lane centre and gains from the 4.4 m/s^2 stop (0.58 -> 0.23 m). The braking rule keeps the braking car where the "
-    "non-braking compensated car goes (0.54 vs 0.55 m); removing the outward drift is the no-brake target's "
-    "(tire-capacity / detection) business, not the braking arbitration's. Session f (understeer_flag): the pre-pedal "
-    "outward drift is the understeer of R3/X (blown inner front, low-friction curve) and the understeer rule lowers the "
-    "outer front before the pedal: no pedal 0.552 -> 0.296 m (none 0.58), braking 0.470 -> 0.312 m, still above the "
-    "braking twin's 0.225 m, which slows at 4.4 m/s^2 while the compensated car's front axle (blown wheel released, "
-    "the other at its friction-circle cap) brakes ~2 m/s^2"))
 def test_knife_edge_point_no_worse(p16):
+    """#16 (F6): with the pedal the compensating front was capped at its friction circle at the MEASURED friction
+    (12.5 bar; mu_meas 0.213 on a 0.319 road, lateral share 825 N) while the uncompensated twin's front carried 31 bar
+    under ABS: ~2 vs 4.4 m/s^2, 0.312 vs 0.225 m. The measured friction is the pure-longitudinal Dugoff inversion on a
+    wheel that carries its lateral share (combined slip), i.e. already the friction left for F_x next to F_y; the cap
+    is that measured longitudinal capacity (front_circle_measured_flag; findings_F.md X2). History: braking rule 0.96 ->
+    0.54 m, rear circle 0.47 m, understeer rule 0.312 m."""
     assert p16["on"] <= p16["off"]
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "Session f (understeer_flag): the understeer rule improved the NON-braking compensated car at #16 more than the "
-    "braking one (no pedal 0.552 -> 0.296 m, braking 0.470 -> 0.312 m, none 0.58 / 0.225 m): 0.312 > 1.05 x 0.296 = "
-    "0.311 m by 1 mm. The rule stands down while the driver brakes (the braking rule governs from the present "
-    "balance); the braking car's excess is the braking deficit of the front axle (blown wheel released, the other at "
-    "its friction-circle cap), not the braking arbitration's share. Recorded as a FAIL, not re-toleranced"))
+def test_knife_edge_point_worse_with_the_lateral_demand_counted_twice(env, p16):
+    """Negative control: front_circle_measured_flag = 0 (the circle sqrt((mu_meas*F_z)^2 - F_y^2)) - 0.312 m vs none
+    0.225 m at the commit of the flag."""
+    assert _dev(env, P16, sets=["vehicle.blowout_compensation.front_circle_measured_flag=0"]) > p16["off"]
+
+
 def test_knife_edge_point_braking_no_worse_than_not_braking(p16):
     """What the braking rule does guarantee at #16: the compensated car that brakes goes no farther off than the same
     compensated car without the pedal (+5 % of it: assumed margin for the different speeds over the run). With the

@@ -1405,7 +1405,11 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
       (S_P_REQ, the tire-capacity rule included) plus ``braking_share_frac`` x the driver's pressure, the share at most
       up to the friction circle of the wheel at the measured friction with its share of the front lateral force for
       the steered path (F_x <= sqrt((mu*F_z)^2 - F_y^2), F_y = m*|a_y|*l_r/l shared with the flat tire by cornering
-      stiffness); never below the balance. The share is a yaw moment away from the blown side (b_f*share*K_b*p/R):
+      stiffness); never below the balance. With a measured friction (S_MU_MEAS) the cap is that measured
+      longitudinal capacity mu_meas*F_z (``front_circle_measured_flag``, 0 = seeded defect = the circle at mu_meas): the
+      capacity rule's pure-longitudinal Dugoff inversion on a cornering wheel already reads the friction left for F_x
+      next to F_y (combined slip), the circle subtracted F_y twice (random 7 #16: 12.5 bar vs the twin's 31, 0.312 ->
+      0.129 m, none 0.225). The share is a yaw moment away from the blown side (b_f*share*K_b*p/R):
       it is taken only while the measured yaw (relative to the steered reference) does not point away from the blown
       side; yawing away within the closed-loop dead band (yaw_deadband_deg_per_s) it is held where it is, beyond it
       the wheel goes back to the balance (the true drag D is unknown to the ECU: the yaw rate tells whether F_opp
@@ -1444,6 +1448,11 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
     r_w = p.body_wheel_radius_m
     fx_max = wheel_circle_limit_mu(tg, gl[tg], a_y_ref, mu, b, p)  # its friction circle next to its lateral share
     p_bal = st[S_P_REQ]
+    if p.blowout_compensation_front_circle_measured_flag > 0.5 and st[S_MU_MEAS] > 0.0:
+        # front_circle_measured_flag: the measured friction is the pure-longitudinal Dugoff inversion on a wheel that
+        # carried its lateral share while measured (combined slip lowers F_x at the same slip): it is already the
+        # friction left for F_x next to the curve's lateral force - the circle would subtract F_y a second time
+        fx_max = mu * max(gl[tg], 0.0)
     p_circle = fx_max * r_w / p.brakes_front_gain_nm_per_pa
     p_full = max(p_bal, min(p_bal + p.blowout_compensation_braking_share_frac * max(p_mc, 0.0), p_circle))
     toward = toward_blown_side(b, yaw_rate)
