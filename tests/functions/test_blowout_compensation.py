@@ -378,6 +378,27 @@ def test_row_limited_build_spin_stopped(params):
     assert d.mode == "LIMITED" and int(d.st[bc.S_TARGET]) == 1
 
 
+def test_row_build_refused_ends_spin_release_ramp(params):
+    """BUILD->REFUSED during the spin-front release ramp (ramp_refused_flag; independent review r2): after the exit
+    (LIMITED->BUILD spin_stopped, FR at 40 bar) the car yaws 10 % beyond the mu-0.8 bound AWAY from the blown RL
+    (clockwise): the function refuses, every compensating wheel goes back to the driver and ABS (Q_NONE, module doc
+    "the feed-forward stands down") - FR too, whose brake force is a clockwise moment, the refused rotation's own
+    direction. Flag 0 (the code before): FR still held along the ramp (Q_HOLD) in REFUSED."""
+    def run(**ch):
+        pe = (0, 40e5, 0, 0)
+        e = Ecu(params, **ch).run(0.2).run(0.055, **BLOWN_RL)
+        e.run(0.05, yaw=1.1 * R_BOUND, a_y=V * 1.1 * R_BOUND, p_est=pe, **BLOWN_RL)
+        e.run(0.5, yaw=-0.05, a_y=-V * 0.05, p_est=pe, **BLOWN_RL).run(0.5, p_est=pe, **BLOWN_RL)
+        assert e.rows[-1] == ("LIMITED", "BUILD", "spin_stopped")
+        e.run(0.05, p_est=(0, 35e5, 0, 0), **BLOWN_RL)
+        assert e.mode == "BUILD" and e.req[1] in (bc.Q_HOLD, bc.Q_RELEASE)  # on the ramp (0.05 s of 0.50 s)
+        e.run(0.01, yaw=-1.1 * R_BOUND, a_y=-V * 1.1 * R_BOUND, p_est=(0, 30e5, 0, 0), **BLOWN_RL)
+        assert e.rows[-1] == ("BUILD", "REFUSED", "beyond_stable_region") and int(e.st[bc.S_BLOWN]) == 2
+        return e
+    assert list(run().req) == [bc.Q_NONE, bc.Q_NONE, bc.Q_RELEASE, bc.Q_NONE]
+    assert run(blowout_compensation_ramp_refused_flag=0.0).req[1] == bc.Q_HOLD
+
+
 TPMS_BRAKING = dict(tpms=1.0, braking=1.0, a_x=0.0)  # a TPMS alarm on LF while the driver brakes (TPMS path)
 
 

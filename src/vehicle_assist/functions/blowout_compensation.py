@@ -1248,8 +1248,12 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     tg = int(st[S_TARGET])
     if b >= 0:
         requests[b] = Q_RELEASE
+    # (ramp_refused_flag) the ramp only while the rear compensates (BUILD/HOLD): REFUSED after the exit is a car beyond
+    # the bounds rotating AWAY from the blown side (toward it the spin-front rule takes over), and the spin-front wheel's
+    # pressure is a moment in that rotation's direction - the feed-forward stands down there (Q_NONE), as at once
+    ramp_modes = mode == BUILD or mode == HOLD or (p.blowout_compensation_ramp_refused_flag < 0.5 and mode != LIMITED)
     if (p.blowout_compensation_spin_release_ramp_flag > 0.5 and b >= 2 and st[S_SPIN_EXITED] > 0.5
-            and mode != LIMITED and st[S_RAMP_T] < st[S_RAMP_DUR]):
+            and ramp_modes and st[S_RAMP_T] < st[S_RAMP_DUR]):
         # spin_release_ramp_flag: after the exit the spin-front wheel's pressure is withdrawn linearly to 0 over the
         # settling time of the single-track yaw mode (settling_time_s at the exit speed), not dumped at once: its
         # counter-moment goes no faster than the car's yaw mode settles, and the rear's re-planned balance builds
