@@ -76,3 +76,17 @@ def test_restrict_twice_is_an_error(planted):
 
 def test_help_lists_every_shipped_envelope():
     assert sorted(s.strip() for s in SHIPPED_ENVELOPES.split(",")) == sorted(shipped_envelopes())
+
+
+@pytest.mark.parametrize("item", ["noise_seed=5.5", "noise_seed=3..7.5"])
+def test_restrict_integer_dimension_needs_whole_numbers(item, tmp_path):
+    """An integer dimension (the tire_blowout envelope's noise_seed, run.seed) takes whole numbers: pinned at 5.5 a
+    point rounded it to seed 6 while falsify.json recorded the restriction as 5.5 (independent review r2). One line,
+    exit 2, before anything runs."""
+    res = CliRunner().invoke(app, ["falsify", "tire_blowout", "-r", "tire_blowout.no_worse_than_no_compensation",
+                                   "-n", "1", "-b", "1", "-o", str(tmp_path / "f"), "-R", item])
+    assert res.exit_code == 2, res.output
+    lines = [ln for ln in res.output.splitlines() if ln.strip()]
+    assert len(lines) == 1 and "whole numbers" in lines[0], res.output
+    assert not (tmp_path / "f" / "falsify.json").exists()
+    assert load_envelope("tire_blowout").restrict_text(["noise_seed=5..5"]).dim("noise_seed").lo == 5.0
