@@ -378,6 +378,31 @@ def test_row_limited_build_spin_stopped(params):
     assert d.mode == "LIMITED" and int(d.st[bc.S_TARGET]) == 1
 
 
+def test_spin_release_ramp_is_linear_over_the_settling_time(params):
+    """spin_release_ramp_flag: after the exit the spin-front wheel (FR, at 40 bar at the exit) may carry at most
+    40 bar * (1 - t/t_s), t_s = 8/a_1 = 0.50 s at 60 km/h (closed form in settling_time_s' docstring): half-way (0.25 s)
+    20 bar - 30 bar there is dumped (RELEASE), 19 bar held (HOLD, never built); after t_s the wheel is the driver's and
+    ABS's (NONE). A ramp that held the exit pressure, or ended early, fails (independent review r2: the row test runs
+    with 0 bar, where the ramp is HOLD throughout)."""
+    def exited():
+        pe = (0, 40e5, 0, 0)
+        e = Ecu(params).run(0.2).run(0.055, **BLOWN_RL)
+        e.run(0.05, yaw=1.1 * R_BOUND, a_y=V * 1.1 * R_BOUND, p_est=pe, **BLOWN_RL)
+        e.run(0.5, yaw=-0.05, a_y=-V * 0.05, p_est=pe, **BLOWN_RL)
+        while e.rows[-1] != ("LIMITED", "BUILD", "spin_stopped"):
+            e.run(0.005, p_est=pe, **BLOWN_RL)
+        assert e.st[bc.S_RAMP_P0] == pytest.approx(40e5) and e.st[bc.S_RAMP_DUR] == pytest.approx(0.50, abs=0.01)
+        return e
+    a = exited().run(0.245, p_est=(0, 30e5, 0, 0), **BLOWN_RL)  # 50 periods after the exit's: t = 0.25 s
+    assert a.req[1] == bc.Q_RELEASE
+    b = exited().run(0.245, p_est=(0, 19e5, 0, 0), **BLOWN_RL)
+    assert b.req[1] == bc.Q_HOLD
+    c = exited().run(0.12, p_est=(0, 31e5, 0, 0), **BLOWN_RL)  # t = 0.125 s: 30 bar allowed, 31 within the 1 bar band
+    assert c.req[1] == bc.Q_HOLD
+    d = exited().run(0.55, p_est=(0, 1e5, 0, 0), **BLOWN_RL)
+    assert d.req[1] == bc.Q_NONE
+
+
 def test_row_build_refused_ends_spin_release_ramp(params):
     """BUILD->REFUSED during the spin-front release ramp (ramp_refused_flag; independent review r2): after the exit
     (LIMITED->BUILD spin_stopped, FR at 40 bar) the car yaws 10 % beyond the mu-0.8 bound AWAY from the blown RL
