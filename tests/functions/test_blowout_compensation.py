@@ -97,14 +97,14 @@ class Ecu:
         self.rows = []
 
     def run(self, s, vw=(V, V, V, V), tpms=0.0, yaw=0.0, braking=0.0, inlet=(1, 1, 1, 1), p_est=(0, 0, 0, 0), a_x=0.0,
-            a_y=0.0):
+            a_y=0.0, p_mc=0.0):
         dt = 0.005
         for _ in range(int(round(s / dt))):
             v_ref = bc.reference_step(self.st, np.array(vw, float), a_x, tpms, dt, self.p)
             n0 = self.n
             self.n = bc.blowout_step(self.st, np.array(vw, float), v_ref, braking, a_x, yaw, 0.0, tpms, np.array(inlet, float),
                                      np.array(p_est, float), self.p, dt, self.t, 6, self.events, self.n, self.req,
-                                     a_y)
+                                     a_y, p_mc)
             for k in range(n0, self.n):
                 _, _, f, to, g = self.events[k]
                 self.rows.append((bc.MODES[int(f)], bc.MODES[int(to)], bc.REASONS[int(g)]))
@@ -401,6 +401,23 @@ def test_spin_release_ramp_is_linear_over_the_settling_time(params):
     assert c.req[1] == bc.Q_HOLD
     d = exited().run(0.55, p_est=(0, 1e5, 0, 0), **BLOWN_RL)
     assert d.req[1] == bc.Q_NONE
+
+
+def test_spin_release_ramp_not_below_the_drivers_pressure(params):
+    """ramp_driver_floor_flag (independent review r2): the driver brakes during the ramp (brake light, master pressure
+    25 bar); 0.4 s after the exit the ramp allows 40 bar * (1 - 0.4/0.5) = 8 bar, but the driver's 25 bar is not the
+    function's to withdraw: FR at 20 bar is held (HOLD; the ESP passes the driver's pressure above it), not dumped.
+    Flag 0 (the code before): dumped (RELEASE) toward 8 bar, below the driver's pressure on the other front wheel."""
+    def at(**ch):
+        pe = (0, 40e5, 0, 0)
+        e = Ecu(params, **ch).run(0.2).run(0.055, **BLOWN_RL)
+        e.run(0.05, yaw=1.1 * R_BOUND, a_y=V * 1.1 * R_BOUND, p_est=pe, **BLOWN_RL)
+        e.run(0.5, yaw=-0.05, a_y=-V * 0.05, p_est=pe, **BLOWN_RL)
+        while e.rows[-1] != ("LIMITED", "BUILD", "spin_stopped"):
+            e.run(0.005, p_est=pe, **BLOWN_RL)
+        return e.run(0.395, p_est=(25e5, 20e5, 0, 25e5), braking=1.0, p_mc=25e5, **BLOWN_RL)
+    assert at().req[1] == bc.Q_HOLD
+    assert at(blowout_compensation_ramp_driver_floor_flag=0.0).req[1] == bc.Q_RELEASE
 
 
 def test_row_build_refused_ends_spin_release_ramp(params):

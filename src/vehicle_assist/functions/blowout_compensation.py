@@ -1262,6 +1262,10 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         st[S_RAMP_T] += dt
         sub = _substitute(b)
         allowed = st[S_RAMP_P0] * (1.0 - st[S_RAMP_T] / st[S_RAMP_DUR])
+        if p.blowout_compensation_ramp_driver_floor_flag > 0.5:
+            # (ramp_driver_floor_flag) the ramp withdraws the function's own pressure, never the driver's: not below the
+            # master pressure (the front wheel's source; released at once, Q_NONE, it goes to the driver's pressure)
+            allowed = max(allowed, p_mc)
         requests[sub] = Q_RELEASE if p_est[sub] > allowed + 1.0e5 else Q_HOLD
     if tg >= 0 and inlet_ok[tg] > 0.5:
         if mode == BUILD:
