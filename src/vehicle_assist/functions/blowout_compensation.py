@@ -119,7 +119,9 @@ exit); the settling time without the heading condition: 1.95 m there, spin point
 an exit). RL 120 km/h 650 m points (open item 5): 1.39 / 1.85 / 1.74 m -> 0.66 / 0.98 / 1.71 m (none 6.33 / 6.93 /
 15.27 m); with the ramp 0.66 / 1.31 / 1.73 m. The rear balance after the exit is still planned at the nominal mu 0.8
 (findings_F.md Z, Z2). The ramp runs only in BUILD/HOLD (``ramp_refused_flag``, 0 = seeded defect = on in REFUSED/ENDED
-too): a refusal after the exit (beyond the bounds rotating away from the blown side) releases the front at once.
+too): a refusal after the exit (beyond the bounds rotating away from the blown side) releases the front at once; and
+never below the driver's master pressure (``ramp_driver_floor_flag``, 0 = seeded defect = down to 0 under a braking
+driver: FR 2.3 bar vs FL 25 bar, random 29 #37 2.020 m vs 1.374 m without the exit; floored 1.355 m).
 Rear compensating wheel (``slip_limit_flag``, 0 = seeded defect; falsification of issue #10): its brake force is
 kept below the slip where braking starts to cut its lateral force (Dugoff f(H) >= 1 - s; round 3 - with the nominal
 mu alone this limit made two low-friction points worse than none in round 2, the measured tire capacity below now
