@@ -97,14 +97,14 @@ class Ecu:
         self.rows = []
 
     def run(self, s, vw=(V, V, V, V), tpms=0.0, yaw=0.0, braking=0.0, inlet=(1, 1, 1, 1), p_est=(0, 0, 0, 0), a_x=0.0,
-            a_y=0.0):
+            a_y=0.0, p_mc=0.0):
         dt = 0.005
         for _ in range(int(round(s / dt))):
             v_ref = bc.reference_step(self.st, np.array(vw, float), a_x, tpms, dt, self.p)
             n0 = self.n
             self.n = bc.blowout_step(self.st, np.array(vw, float), v_ref, braking, a_x, yaw, 0.0, tpms, np.array(inlet, float),
                                      np.array(p_est, float), self.p, dt, self.t, 6, self.events, self.n, self.req,
-                                     a_y)
+                                     a_y, p_mc)
             for k in range(n0, self.n):
                 _, _, f, to, g = self.events[k]
                 self.rows.append((bc.MODES[int(f)], bc.MODES[int(to)], bc.REASONS[int(g)]))
@@ -376,6 +376,69 @@ def test_row_limited_build_spin_stopped(params):
     assert h.mode == "LIMITED" and h.st[bc.S_PSI_ERR] > 0.0
     d = spin(blowout_compensation_spin_exit_flag=0.0).run(0.5, yaw=-0.05, a_y=-V * 0.05, **BLOWN_RL).run(1.0, **BLOWN_RL)
     assert d.mode == "LIMITED" and int(d.st[bc.S_TARGET]) == 1
+
+
+def test_spin_release_ramp_is_linear_over_the_settling_time(params):
+    """spin_release_ramp_flag: after the exit the spin-front wheel (FR, at 40 bar at the exit) may carry at most
+    40 bar * (1 - t/t_s), t_s = 8/a_1 = 0.50 s at 60 km/h (closed form in settling_time_s' docstring): half-way (0.25 s)
+    20 bar - 30 bar there is dumped (RELEASE), 19 bar held (HOLD, never built); after t_s the wheel is the driver's and
+    ABS's (NONE). A ramp that held the exit pressure, or ended early, fails (independent review r2: the row test runs
+    with 0 bar, where the ramp is HOLD throughout)."""
+    def exited():
+        pe = (0, 40e5, 0, 0)
+        e = Ecu(params).run(0.2).run(0.055, **BLOWN_RL)
+        e.run(0.05, yaw=1.1 * R_BOUND, a_y=V * 1.1 * R_BOUND, p_est=pe, **BLOWN_RL)
+        e.run(0.5, yaw=-0.05, a_y=-V * 0.05, p_est=pe, **BLOWN_RL)
+        while e.rows[-1] != ("LIMITED", "BUILD", "spin_stopped"):
+            e.run(0.005, p_est=pe, **BLOWN_RL)
+        assert e.st[bc.S_RAMP_P0] == pytest.approx(40e5) and e.st[bc.S_RAMP_DUR] == pytest.approx(0.50, abs=0.01)
+        return e
+    a = exited().run(0.245, p_est=(0, 30e5, 0, 0), **BLOWN_RL)  # 50 periods after the exit's: t = 0.25 s
+    assert a.req[1] == bc.Q_RELEASE
+    b = exited().run(0.245, p_est=(0, 19e5, 0, 0), **BLOWN_RL)
+    assert b.req[1] == bc.Q_HOLD
+    c = exited().run(0.12, p_est=(0, 31e5, 0, 0), **BLOWN_RL)  # t = 0.125 s: 30 bar allowed, 31 within the 1 bar band
+    assert c.req[1] == bc.Q_HOLD
+    d = exited().run(0.55, p_est=(0, 1e5, 0, 0), **BLOWN_RL)
+    assert d.req[1] == bc.Q_NONE
+
+
+def test_spin_release_ramp_not_below_the_drivers_pressure(params):
+    """ramp_driver_floor_flag (independent review r2): the driver brakes during the ramp (brake light, master pressure
+    25 bar); 0.4 s after the exit the ramp allows 40 bar * (1 - 0.4/0.5) = 8 bar, but the driver's 25 bar is not the
+    function's to withdraw: FR at 20 bar is held (HOLD; the ESP passes the driver's pressure above it), not dumped.
+    Flag 0 (the code before): dumped (RELEASE) toward 8 bar, below the driver's pressure on the other front wheel."""
+    def at(**ch):
+        pe = (0, 40e5, 0, 0)
+        e = Ecu(params, **ch).run(0.2).run(0.055, **BLOWN_RL)
+        e.run(0.05, yaw=1.1 * R_BOUND, a_y=V * 1.1 * R_BOUND, p_est=pe, **BLOWN_RL)
+        e.run(0.5, yaw=-0.05, a_y=-V * 0.05, p_est=pe, **BLOWN_RL)
+        while e.rows[-1] != ("LIMITED", "BUILD", "spin_stopped"):
+            e.run(0.005, p_est=pe, **BLOWN_RL)
+        return e.run(0.395, p_est=(25e5, 20e5, 0, 25e5), braking=1.0, p_mc=25e5, **BLOWN_RL)
+    assert at().req[1] == bc.Q_HOLD
+    assert at(blowout_compensation_ramp_driver_floor_flag=0.0).req[1] == bc.Q_RELEASE
+
+
+def test_row_build_refused_ends_spin_release_ramp(params):
+    """BUILD->REFUSED during the spin-front release ramp (ramp_refused_flag; independent review r2): after the exit
+    (LIMITED->BUILD spin_stopped, FR at 40 bar) the car yaws 10 % beyond the mu-0.8 bound AWAY from the blown RL
+    (clockwise): the function refuses, every compensating wheel goes back to the driver and ABS (Q_NONE, module doc
+    "the feed-forward stands down") - FR too, whose brake force is a clockwise moment, the refused rotation's own
+    direction. Flag 0 (the code before): FR still held along the ramp (Q_HOLD) in REFUSED."""
+    def run(**ch):
+        pe = (0, 40e5, 0, 0)
+        e = Ecu(params, **ch).run(0.2).run(0.055, **BLOWN_RL)
+        e.run(0.05, yaw=1.1 * R_BOUND, a_y=V * 1.1 * R_BOUND, p_est=pe, **BLOWN_RL)
+        e.run(0.5, yaw=-0.05, a_y=-V * 0.05, p_est=pe, **BLOWN_RL).run(0.5, p_est=pe, **BLOWN_RL)
+        assert e.rows[-1] == ("LIMITED", "BUILD", "spin_stopped")
+        e.run(0.05, p_est=(0, 35e5, 0, 0), **BLOWN_RL)
+        assert e.mode == "BUILD" and e.req[1] in (bc.Q_HOLD, bc.Q_RELEASE)  # on the ramp (0.05 s of 0.50 s)
+        e.run(0.01, yaw=-1.1 * R_BOUND, a_y=-V * 1.1 * R_BOUND, p_est=(0, 30e5, 0, 0), **BLOWN_RL)
+        assert e.rows[-1] == ("BUILD", "REFUSED", "beyond_stable_region") and int(e.st[bc.S_BLOWN]) == 2
+        return e
+    assert list(run().req) == [bc.Q_NONE, bc.Q_NONE, bc.Q_RELEASE, bc.Q_NONE]
+    assert run(blowout_compensation_ramp_refused_flag=0.0).req[1] == bc.Q_HOLD
 
 
 TPMS_BRAKING = dict(tpms=1.0, braking=1.0, a_x=0.0)  # a TPMS alarm on LF while the driver brakes (TPMS path)

@@ -133,3 +133,24 @@ def test_front_pressure_withdrawn_gradually(ramp_case):
         return float(c["wheel_pressure_fr_pa"][k])
     assert fr_after(ramp_case["on"]) > 1.0e5
     assert fr_after(ramp_case["at_once"]) < 1.0e5
+
+
+# A driver braking during the release ramp (ramp_driver_floor_flag; independent review r2): falsifier random 29 (rear
+# wheels, 100-120 km/h, friction scale 0.3-0.45, curves, n64 b32) #37 - RL 119.3 km/h, 0.312, 650 m, held wheel, delay
+# 0.30 s, a light pedal (0.039) from t_b + 0.87 s; the exit at 3.38 s comes while the driver brakes, and the ramp down to 0
+# dumped FR below the driver's pressure on FL: 2.020 m vs 1.374 m without the exit (released at once 1.316, none 6.250).
+# Floored at the master pressure: 1.355 m.
+P29_37 = {'speed': 119.34660557080106, 'mu': 0.31150269334935876, 'delay': 0.30248399589241093, 'wheel_speed_noise': 0.09350114688692049, 'noise_seed': 5857.0, 'brake_gain': 0.878900474081479, 'brake.start_s': 1.8668927443834993, 'brake.level_frac': 0.03928868122827999, 'brake.rate_per_s': 19.394574699259735, 'braking': 'brakes', 'wheel': 'rl', 'driver': 'fixed', 'curve': 'r650'}
+FLOOR0 = ["vehicle.blowout_compensation.ramp_driver_floor_flag=0"]
+
+
+def test_braking_during_the_ramp_no_worse_than_without_the_exit():
+    from vehicle_assist.verification.envelope import load_envelope
+
+    env = load_envelope("tire_blowout")
+    on = va.simulate(env.scenario(P29_37), requirements=False)
+    no_exit = va.simulate(env.scenario(P29_37).with_sets(*EXIT0), requirements=False)
+    floor0 = va.simulate(env.scenario(P29_37).with_sets(*FLOOR0), requirements=False)
+    assert _exits(on)
+    assert on.metrics[METRIC] <= no_exit.metrics[METRIC]
+    assert floor0.metrics[METRIC] > no_exit.metrics[METRIC]  # negative control: the ramp down to 0 (the code before)

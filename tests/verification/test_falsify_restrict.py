@@ -76,3 +76,34 @@ def test_restrict_twice_is_an_error(planted):
 
 def test_help_lists_every_shipped_envelope():
     assert sorted(s.strip() for s in SHIPPED_ENVELOPES.split(",")) == sorted(shipped_envelopes())
+
+
+@pytest.mark.parametrize("item", ["noise_seed=5.5", "noise_seed=3..7.5"])
+def test_restrict_integer_dimension_needs_whole_numbers(item, tmp_path):
+    """An integer dimension (the tire_blowout envelope's noise_seed, run.seed) takes whole numbers: pinned at 5.5 a
+    point rounded it to seed 6 while falsify.json recorded the restriction as 5.5 (independent review r2). One line,
+    exit 2, before anything runs."""
+    res = CliRunner().invoke(app, ["falsify", "tire_blowout", "-r", "tire_blowout.no_worse_than_no_compensation",
+                                   "-n", "1", "-b", "1", "-o", str(tmp_path / "f"), "-R", item])
+    assert res.exit_code == 2, res.output
+    lines = [ln for ln in res.output.splitlines() if ln.strip()]
+    assert len(lines) == 1 and "whole numbers" in lines[0], res.output
+    assert not (tmp_path / "f" / "falsify.json").exists()
+    assert load_envelope("tire_blowout").restrict_text(["noise_seed=5..5"]).dim("noise_seed").lo == 5.0
+
+
+def test_study_restrict_applies_to_coverage_and_sensitivity(planted, tmp_path):
+    """``study --restrict`` (wired into the coverage and the Sobol sensitivity run; independent review r2: untested):
+    the coverage's worst point lies inside the restriction, and a pinned dimension has a Sobol index of exactly 0
+    (it does not vary)."""
+    out = tmp_path / "s"
+    res = CliRunner().invoke(app, ["study", str(planted), "-r", "hill_start_amt.no_rollback", "-n", "4",
+                                   "--sensitivity", "2", "--output", "robustness", "-o", str(out),
+                                   "-R", "slope=5..6", "-R", "mass=20000", "-R", "surface=wet"])
+    assert res.exit_code == 0, res.output
+    cov = json.loads(next(out.glob("coverage_*.json")).read_text())
+    w = cov["worst_point"]
+    assert 5.0 <= w["slope"] <= 6.0 and w["mass"] == 20000.0 and w["surface"] == "wet"
+    sens = json.loads(next(out.glob("sensitivity_*.json")).read_text())
+    rows = {r["dimension"]: r for r in sens["indices"]}
+    assert rows["mass"]["S1"] == 0.0 and rows["mass"]["ST"] == 0.0

@@ -47,3 +47,30 @@ def test_no_counterexample_no_twin_run(planted, tmp_path):
     res = run_falsification(env, req, budget=1, seed=0, optimizer="random", batch=1, progress=False)
     write_falsification(res, tmp_path / "out")
     assert res.counterexample is None and res.counterexample_twin_robustness is None and twin_text(res) == ""
+
+
+def test_twin_is_the_assist_off_run(planted, tmp_path):
+    """The twin is the point with the envelope's baseline overrides (hill-start assist off), not the assisted run
+    again: ``hsa_mode_index`` is -1 with the function disabled (vehicles/truck_amt.py records -1 then) and 0 (IDLE)
+    with it on, so ``always(hsa_mode_index < -0.5)`` has robustness -0.5 on the assisted run (a counterexample) and
+    +0.5 on the twin, which meets it (independent review r2: the grade-only reference above is the same for the
+    assisted run and the twin, so it could not tell them apart)."""
+    env = load_envelope(str(planted)).restrict_text(["slope=10"])
+    res = run_falsification(env, _req("always(hsa_mode_index < -0.5)"), budget=1, seed=0, optimizer="random", batch=1,
+                            progress=False)
+    write_falsification(res, tmp_path / "out")
+    assert res.counterexample.robustness == pytest.approx(-0.5, abs=1e-12)
+    assert res.counterexample_twin_robustness == pytest.approx(0.5, abs=1e-12)
+    assert "meets it" in twin_text(res)
+
+
+def test_twin_not_a_number_is_not_met(planted, tmp_path):
+    """A twin robustness that is not a number (a NaN channel) is no verdict: it compared False with 0 and was
+    reported as "the same point without the assist meets it" (independent review r2)."""
+    env = load_envelope(str(planted)).restrict_text(["slope=14.3"])
+    res = run_falsification(env, _req("always(abs(slope_rad - 0.25) > 0.01)"), budget=1, seed=0, optimizer="random",
+                            batch=1, progress=False)
+    write_falsification(res, tmp_path / "out")
+    res.counterexample_twin_robustness = float("nan")
+    text = twin_text(res)
+    assert "meets it" not in text and "violates" not in text and "cannot be judged" in text

@@ -118,7 +118,10 @@ at the yaw swing-back and re-spun the car (RL 120 km/h 650 m, mu scale 0.3, held
 exit); the settling time without the heading condition: 1.95 m there, spin points 7.81 / 7.80 m (7.17 / 6.78 without
 an exit). RL 120 km/h 650 m points (open item 5): 1.39 / 1.85 / 1.74 m -> 0.66 / 0.98 / 1.71 m (none 6.33 / 6.93 /
 15.27 m); with the ramp 0.66 / 1.31 / 1.73 m. The rear balance after the exit is still planned at the nominal mu 0.8
-(findings_F.md Z, Z2).
+(findings_F.md Z, Z2). The ramp runs only in BUILD/HOLD (``ramp_refused_flag``, 0 = seeded defect = on in REFUSED/ENDED
+too): a refusal after the exit (beyond the bounds rotating away from the blown side) releases the front at once; and
+never below the driver's master pressure (``ramp_driver_floor_flag``, 0 = seeded defect = down to 0 under a braking
+driver: FR 2.3 bar vs FL 25 bar, random 29 #37 2.020 m vs 1.374 m without the exit; floored 1.355 m).
 Rear compensating wheel (``slip_limit_flag``, 0 = seeded defect; falsification of issue #10): its brake force is
 kept below the slip where braking starts to cut its lateral force (Dugoff f(H) >= 1 - s; round 3 - with the nominal
 mu alone this limit made two low-friction points worse than none in round 2, the measured tire capacity below now
@@ -1248,8 +1251,12 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     tg = int(st[S_TARGET])
     if b >= 0:
         requests[b] = Q_RELEASE
+    # (ramp_refused_flag) the ramp only while the rear compensates (BUILD/HOLD): REFUSED after the exit is a car beyond
+    # the bounds rotating AWAY from the blown side (toward it the spin-front rule takes over), and the spin-front wheel's
+    # pressure is a moment in that rotation's direction - the feed-forward stands down there (Q_NONE), as at once
+    ramp_modes = mode == BUILD or mode == HOLD or (p.blowout_compensation_ramp_refused_flag < 0.5 and mode != LIMITED)
     if (p.blowout_compensation_spin_release_ramp_flag > 0.5 and b >= 2 and st[S_SPIN_EXITED] > 0.5
-            and mode != LIMITED and st[S_RAMP_T] < st[S_RAMP_DUR]):
+            and ramp_modes and st[S_RAMP_T] < st[S_RAMP_DUR]):
         # spin_release_ramp_flag: after the exit the spin-front wheel's pressure is withdrawn linearly to 0 over the
         # settling time of the single-track yaw mode (settling_time_s at the exit speed), not dumped at once: its
         # counter-moment goes no faster than the car's yaw mode settles, and the rear's re-planned balance builds
@@ -1257,6 +1264,10 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         st[S_RAMP_T] += dt
         sub = _substitute(b)
         allowed = st[S_RAMP_P0] * (1.0 - st[S_RAMP_T] / st[S_RAMP_DUR])
+        if p.blowout_compensation_ramp_driver_floor_flag > 0.5:
+            # (ramp_driver_floor_flag) the ramp withdraws the function's own pressure, never the driver's: not below the
+            # master pressure (the front wheel's source; released at once, Q_NONE, it goes to the driver's pressure)
+            allowed = max(allowed, p_mc)
         requests[sub] = Q_RELEASE if p_est[sub] > allowed + 1.0e5 else Q_HOLD
     if tg >= 0 and inlet_ok[tg] > 0.5:
         if mode == BUILD:

@@ -232,6 +232,8 @@ class SedanBlowoutCompensation(Strict):
     phase_plane_b2_deg_per_s: Annotated[float, Field(gt=0, le=90)] = 9.55  # same source, dry-road boundary intercept
     spin_exit_flag: Annotated[int, Field(ge=0, le=1)] = 1  # spin-front rule ends once the car is back inside the stable region (mu-0.8 bounds, phase plane, yaw dead band, spin heading taken back) for the single-track settling time: front released, rear re-planned to the balance; 0 = defect (no exit)
     spin_release_ramp_flag: Annotated[int, Field(ge=0, le=1)] = 1  # at the spin-front exit the front wheel is released linearly over the single-track settling time 8/a_1, not dumped at once; 0 = defect (released at once)
+    ramp_refused_flag: Annotated[int, Field(ge=0, le=1)] = 1  # the spin-front release ramp (spin_release_ramp_flag) only in BUILD/HOLD: in REFUSED/ENDED the front wheel is released at once (Q_NONE); 0 = defect (ramp went on in REFUSED)
+    ramp_driver_floor_flag: Annotated[int, Field(ge=0, le=1)] = 1  # the spin-front release ramp never below the driver's master pressure; 0 = defect (ramped to 0 under a braking driver)
 
     @model_validator(mode="after")
     def _order(self):

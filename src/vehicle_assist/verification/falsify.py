@@ -124,7 +124,10 @@ def twin_text(result: "FalsifyResult") -> str:
     r = result.counterexample_twin_robustness
     if r is None or result.counterexample is None:
         return ""
-    verdict = "violates it too" if r < 0 else "meets it"
+    if math.isnan(r):  # (a NaN compares False with 0: it was reported as "meets it")
+        verdict = "cannot be judged (its robustness is not a number)"
+    else:
+        verdict = "violates it too" if r < 0 else "meets it"
     return (f"the same point without the assist ({' '.join(result.envelope.model.baseline)}) {verdict}: robustness "
             f"{r:.4g} {result.requirement.unit}")
 
