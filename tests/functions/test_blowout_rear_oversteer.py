@@ -104,3 +104,19 @@ def test_cap_ends_back_inside_the_region(params):
     bc.braking_rule(st, FL, FR, bc.HOLD, 1.0, -7.0, 0.0, 0.15, 60.0 * BAR, np.array([1.0, 75.0, 67.0, 67.0]) * BAR,
                     params)
     assert st[bc.S_REAR_CAP] < 0.0 and st[bc.S_REAR_OS_CAP] < 0.0
+
+
+def test_rule_pays_off_at_the_finding_point():
+    """System level (review r1, session f: with the flag at 0 only the unit checks above failed; no scenario showed the
+    rule's effect). Falsifier random 61 b128 #101 (findings_F.md Y, tests/verification/test_blowout_release_bound.py
+    P101: FL 110 km/h, mu 0.58, straight, pedal from t_b - 0.15 s): the rear pair carried the driver's 55-77 bar while
+    the car yawed toward the blown side. Reference: the requirement tire_blowout.no_worse_than_no_compensation (the
+    no-compensation twin, 8.51 m) and the seeded defect (the code before, 2.31 m; with the rule 1.99 m)."""
+    from tests.support import envelope_point_metric
+    from tests.verification.test_blowout_release_bound import METRIC, P101
+    from vehicle_assist.verification.envelope import load_envelope
+
+    env = load_envelope("tire_blowout")
+    on = envelope_point_metric(env, P101, METRIC)
+    assert on < envelope_point_metric(env, P101, METRIC, baseline=True)
+    assert on < envelope_point_metric(env, P101, METRIC, sets=("vehicle.blowout_compensation.rear_oversteer_flag=0",))

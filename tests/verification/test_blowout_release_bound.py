@@ -74,14 +74,24 @@ def test_real_fl_blowout_braking_no_worse_and_better_than_the_defect(env):
 
 def test_release_bound_closed_form():
     """half-track * |a_x|/g * F_z,front from the spec's table (tire_blowout.md 7) at a_x = -6 m/s^2: static + transfer
-    front wheel load 0.5*m*(g*l_r + |a_x|*h)/l = 5874 N, force >= 6/9.81 of it = 3593 N, moment 0.7365 m * 3593 N."""
+    front wheel load 0.5*m*(g*l_r + |a_x|*h)/l = 5874 N, force >= 6/9.81 of it = 3593 N, moment 0.7365 m * 3593 N.
+    (A transcription check of the formula, not evidence of the physics: the same formula with the vehicle file's
+    values, which cite this table - review r1. The physics is checked against the road's friction in
+    test_release_bound_never_above_the_road_friction.) Without a flat wheel's drag to take off the deceleration
+    (blow_drag_frac = 0), and with release_bound_drag_flag = 0 (the code before), the bound is this closed form."""
     p = pack_records([va.load_scenario("blowout_lf_60kph_paper").vehicle.flat()])[0]
     m, g, l, l_f, h, track = 1700.0, 9.81, 2.576, 1.159, 0.65, 1.473
     fz = 0.5 * m * (g * (l - l_f) + 6.0 * h) / l
     expected = 0.5 * track * 6.0 / g * fz
-    assert bc.released_moment_bound_nm(0, -6.0, p) == pytest.approx(expected, rel=1e-3)
-    assert bc.released_moment_bound_nm(1, -6.0, p) == pytest.approx(expected, rel=1e-3)
-    assert bc.released_moment_bound_nm(0, 0.0, p) == 0.0  # no deceleration: no lower bound on the force
+    for field, value in (("blowout_compensation_blow_drag_frac", 0.0),
+                         ("blowout_compensation_release_bound_drag_flag", 0.0)):
+        q = p.copy()
+        setattr(q, field, value)
+        assert bc.released_moment_bound_nm(0, -6.0, q) == pytest.approx(expected, rel=1e-3)
+        assert bc.released_moment_bound_nm(1, -6.0, q) == pytest.approx(expected, rel=1e-3)
+        assert bc.released_moment_bound_nm(0, 0.0, q) == 0.0  # no deceleration: no lower bound on the force
+    # with the flat wheel's drag taken off, less than the friction |a_x|/g alone would claim
+    assert 0.0 <= bc.released_moment_bound_nm(0, -6.0, p) < expected
 
 
 def test_curve_toward_blown_side_still_rejected(env):
@@ -90,3 +100,29 @@ def test_curve_toward_blown_side_still_rejected(env):
     r = _run(env, P59_47)
     assert any(e.machine == "blowout_compensation" and e.reason == "yaw_implausible" for e in r.events)
     assert r.metrics[METRIC] < envelope_point_metric(env, P59_47, METRIC, baseline=True)
+
+
+def test_release_bound_never_above_the_road_friction(env):
+    """Independent reference: the road's friction (plant truth of the envelope point, mu 0.58) and the friction circle.
+    The bound claims the saturated opposite front carries at least |a_x|/g of its load because mu >= |a_x|/g. But the
+    measured deceleration of a car with a flat front also holds the flat wheel's drag (paper 004's dragged tire,
+    ~3 kN here) and the air drag, which are not friction the braked tires use: at #101 |a_x|/g reached 0.63-0.74 on
+    mu 0.58 (review r1, session f), so the 'lower bound' claimed more force than the road can give. Checked over #101's
+    blowout phase (BUILD/HOLD, pedal on, the flat FL at the blowout's over-speed): the bound's force never above
+    mu * F_z (spec 4, the load from the spec table's longitudinal transfer). Fails with release_bound_drag_flag = 0."""
+    import numpy as np
+
+    p = pack_records([env.scenario(P101).vehicle.flat()])[0]
+    m, g, l, l_f, h, track = 1700.0, 9.81, 2.576, 1.159, 0.65, 1.473
+    r = _run(env, P101)
+    tr = r.trace
+    a_x = np.asarray(tr["accel_mps2"])
+    mu = np.asarray(tr["friction_mu"])
+    v_ref = np.asarray(tr["reference_speed_mps"])
+    over = np.asarray(tr["wheel_speed_fl_radps"]) * p.body_wheel_radius_m > 1.08 * v_ref
+    sel = (np.isin(np.asarray(tr["blowout_mode_index"]), (1, 2)) & (np.asarray(tr["pedal_force_n"]) > 0.0) & over)
+    assert sel.sum() > 50  # the phase exists (> 0.25 s)
+    fz = 0.5 * m * (g * (l - l_f) - a_x[sel] * h) / l
+    limit = 0.5 * track * mu[sel] * fz
+    bound = np.array([bc.released_moment_bound_nm(0, ax, p) for ax in a_x[sel]])
+    assert np.all(bound <= limit), f"bound {bound.max():.0f} N*m above mu*F_z {limit[np.argmax(bound - limit)]:.0f}"

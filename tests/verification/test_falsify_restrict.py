@@ -107,3 +107,18 @@ def test_study_restrict_applies_to_coverage_and_sensitivity(planted, tmp_path):
     sens = json.loads(next(out.glob("sensitivity_*.json")).read_text())
     rows = {r["dimension"]: r for r in sens["indices"]}
     assert rows["mass"]["S1"] == 0.0 and rows["mass"]["ST"] == 0.0
+
+
+@pytest.mark.parametrize("text", ["noise_seed=3.5", "noise_seed=3.2..3.4"])
+def test_whole_number_dimension_restricted_without_a_whole_number(text):
+    """noise_seed (run.seed, ``integer = true``) is rounded per point: pinned to 3.5 every point ran seed 4 while
+    falsify.json recorded the restriction 3.5 - a point outside its own restriction. One clear error instead
+    (review r1, session f)."""
+    with pytest.raises(InputError, match="whole number"):
+        load_envelope("tire_blowout").restrict_text([text])
+
+
+def test_whole_number_dimension_pinned_to_a_whole_number():
+    env = load_envelope("tire_blowout").restrict_text(["noise_seed=3..3"])
+    _, pts = env.sample(4, method="random", seed=1)
+    assert {p["noise_seed"] for p in pts} == {3.0}

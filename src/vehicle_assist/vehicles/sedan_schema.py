@@ -227,6 +227,7 @@ class SedanBlowoutCompensation(Strict):
     rear_oversteer_flag: Annotated[int, Field(ge=0, le=1)] = 1  # braking rule: rear pair held/lowered while the phase plane shows the spin toward the blown side (van Zanten SAE 2000-01-1633 oversteer under braking); 0 = defect
     rear_oversteer_step_bar: Annotated[float, Field(gt=0, le=10)] = 1.0  # rear pair lowered by this per ESP period while the oversteer rule acts
     release_bound_flag: Annotated[int, Field(ge=0, le=1)] = 1  # yaw_net also past the opposite wheel's linear region with the release moment's lower bound half-track*|a_x|/g*F_z (friction circle), not in a curve toward the blown side (understeer); 0 = defect (raw yaw there)
+    release_bound_drag_flag: Annotated[int, Field(ge=0, le=1)] = 1  # release bound: the ECU's flat-wheel drag (eqs. 22-25) taken off the measured deceleration before |a_x|/g bounds the friction; 0 = defect (|a_x|/g alone)
     phase_plane_flag: Annotated[int, Field(ge=0, le=1)] = 1  # spin-front rule also triggered by the sideslip phase plane |beta_dot + B1*beta| > B2 (Inagaki et al. 1994); 0 = defect (mu-0.8 bounds only)
     phase_plane_b1_per_s: Annotated[float, Field(gt=0, le=20)] = 2.49  # Inagaki, Kushiro, Yamamoto (AVEC 1994 / JSAE Review 1995), dry-road boundary slope
     phase_plane_b2_deg_per_s: Annotated[float, Field(gt=0, le=90)] = 9.55  # same source, dry-road boundary intercept

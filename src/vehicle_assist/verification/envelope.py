@@ -264,6 +264,11 @@ class Envelope:
                     raise InputError(f"{self.where}: restrict {name}: options {bad or value} not in {d.options}")
             elif not (d.lo <= value[0] <= value[1] <= d.hi):  # value[0] == value[1]: the dimension is pinned
                 raise InputError(f"{self.where}: restrict {name} = {value}: must lie within {d.lo:g} .. {d.hi:g}")
+            elif d.integer and math.ceil(value[0]) > math.floor(value[1]):
+                # a whole-number dimension (run.seed) is rounded per point: a range without a whole number in it
+                # would put every point outside the restriction (noise_seed=3.5 ran seed 4, recorded as 3.5)
+                raise InputError(f"{self.where}: restrict {name} = {value}: {name} is a whole number; the range "
+                                 "holds none")
         env = Envelope(self.model, self.path, {**self.narrowed, **{k: tuple(v) for k, v in limits.items()}})
         env.__dict__["base_scenario"] = self.base_scenario
         return env
