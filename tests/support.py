@@ -136,10 +136,15 @@ def esp_ecu_step(e: dict, p) -> None:
     e["t"] += p.esp_period_s
 
 
-def envelope_point_metric(env, point: dict, metric: str, baseline: bool = False, sets=()) -> float:
-    """``metric`` of the envelope point ``point`` (a falsify.json history point), the envelope's baseline twin with
-    ``baseline``, extra overrides ``sets`` (e.g. a seeded defect)."""
+def envelope_point_run(env, point: dict, baseline: bool = False, sets=()):
+    """The run (``va.simulate`` result) of the envelope point ``point`` (a falsify.json history point), the envelope's
+    baseline twin with ``baseline``, extra overrides ``sets`` (e.g. a seeded defect)."""
     import vehicle_assist as va
 
     sc = env.scenario(point, baseline=baseline)
-    return va.simulate(sc.with_sets(*sets) if sets else sc, requirements=False).metrics[metric]
+    return va.simulate(sc.with_sets(*sets) if sets else sc, requirements=False)
+
+
+def envelope_point_metric(env, point: dict, metric: str, baseline: bool = False, sets=()) -> float:
+    """``metric`` of :func:`envelope_point_run`."""
+    return envelope_point_run(env, point, baseline, sets).metrics[metric]

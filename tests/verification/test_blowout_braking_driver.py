@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import vehicle_assist as va
 from vehicle_assist.verification.envelope import load_envelope
+from tests.support import envelope_point_run
 
 METRIC = "blowout_lateral_deviation_run_max_m"
 G = 9.80665
@@ -42,9 +42,7 @@ def env():
     return load_envelope("tire_blowout")
 
 
-def _run(env, point, baseline=False, sets=()):
-    sc = env.scenario(point, baseline=baseline)
-    return va.simulate(sc.with_sets(*sets) if sets else sc, requirements=False)
+_run = envelope_point_run
 
 
 @pytest.fixture(scope="module")

@@ -24,7 +24,7 @@ from __future__ import annotations
 import pytest
 
 import vehicle_assist as va
-from tests.support import envelope_point_metric
+from tests.support import envelope_point_metric, envelope_point_run
 from vehicle_assist.functions import blowout_compensation as bc
 from vehicle_assist.scenarios.runner import pack_records
 from vehicle_assist.verification.envelope import load_envelope
@@ -50,9 +50,7 @@ def env():
     return load_envelope("tire_blowout")
 
 
-def _run(env, point, baseline=False, sets=()):
-    sc = env.scenario(point, baseline=baseline)
-    return va.simulate(sc.with_sets(*sets) if sets else sc, requirements=False)
+_run = envelope_point_run
 
 
 @pytest.mark.parametrize("sets,rejected", [((), False), (DEFECT, True)])
