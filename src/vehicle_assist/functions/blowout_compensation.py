@@ -959,8 +959,17 @@ def spin_front_applies(b, tg, yaw_rate_meas, code, beta_est, beta_dot, inlet_ok,
         return True
     if code == LIMIT_SIDESLIP_BOUND and toward_blown_side(b, beta_est) < 0.0:
         return True
-    return phase_plane_unstable(beta_est, beta_dot, p) and toward_blown_side(
-        b, beta_dot + p.blowout_compensation_phase_plane_b1_per_s * beta_est) < 0.0
+    return phase_plane_spin(b, yaw_rate_meas, beta_est, beta_dot, p)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def phase_plane_spin(b, yaw_rate_meas, beta_est, beta_dot, p):
+    """The spin toward the blown side in the sideslip phase plane (Inagaki et al. 1994, ``phase_plane_unstable``): the
+    state outside the stable region, the yaw rate toward the blown side, and beta_dot + B1*beta pointing away from it
+    (the slide of that spin, not of the opposite rotation - see ``spin_front_applies``). The trigger of the spin-front
+    rule and of the braking rule's rear oversteer cap (``rear_oversteer_cap``)."""
+    return (toward_blown_side(b, yaw_rate_meas) > 0.0 and phase_plane_unstable(beta_est, beta_dot, p)
+            and toward_blown_side(b, beta_dot + p.blowout_compensation_phase_plane_b1_per_s * beta_est) < 0.0)
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -1507,11 +1516,7 @@ def rear_oversteer_cap(st, b, yaw_rate, p_est, p):
     lowered one step per period (the ESP's oversteer intervention under braking: the rear axle's brake pressure is
     reduced so the rear tires get their lateral force back - van Zanten, SAE 2000-01-1633). Back inside the region the
     cap ends (ABS and the other caps again)."""
-    beta = st[S_BETA_EST]
-    b_dot = st[S_BETA_DOT]
-    spin = (phase_plane_unstable(beta, b_dot, p) and toward_blown_side(b, yaw_rate) > 0.0
-            and toward_blown_side(b, b_dot + p.blowout_compensation_phase_plane_b1_per_s * beta) < 0.0)
-    if spin:
+    if phase_plane_spin(b, yaw_rate, st[S_BETA_EST], st[S_BETA_DOT], p):
         low = min(p_est[2], p_est[3])
         c = st[S_REAR_OS_CAP]
         c = low if c < 0.0 else min(c, low)
