@@ -1381,14 +1381,14 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             # (not on the spin-front wheel: its lost lateral force is the intended understeer)
             tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, dt)
         if p.blowout_compensation_understeer_flag > 0.5:
-            understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, requests, p)
+            understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, requests, p, dt)
     if p.blowout_compensation_braking_rule_flag > 0.5:
         braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p)
     return n_events
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, requests, p):
+def understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, requests, p, dt=0.005):
     """Blown FRONT wheel on the inside of the turn the driver steers, the car understeering (``understeer_flag``, 0 =
     seeded defect = the code before; findings_F.md R3 and X, tire_blowout.md open item 1). Acts in HOLD on the other
     front wheel, while the driver does not brake, once the tire-capacity rule has measured a friction below the nominal
@@ -1426,6 +1426,10 @@ def understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, reque
         # turning toward the blown side beyond the reference: the balance before the lowering back (re-built by the ESP)
         st[S_P_REQ] = max(st[S_US_PLAN], st[S_P_REQ])
         st[S_US_LIMITED] = 0.0
+        if p.blowout_compensation_understeer_cap_freeze_flag > 0.5:
+            # (understeer_cap_freeze_flag) the filter window still holds the held wheel's samples: the capacity evidence
+            # counts again only after a fresh window (as the rear slip limit's S_SLIP_HIGH_S), not from the hold's
+            st[S_LOW_S] = -WS_WINDOW_N * dt
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -1617,10 +1621,19 @@ def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, 
             f_hold = min(f_hold, fx_lin)
         p_replan = st[S_P_ADD] * mu_est / p.blowout_compensation_mu_estimate_frac
         f_hold = min(f_hold, (st[S_P_START] + p_replan) * gain / p.body_wheel_radius_m)
-        if st[S_CAP_LATCHED] < 0.5 or f_hold < st[S_F_CAP]:
+        # (understeer_cap_freeze_flag, 0 = seeded defect) not while the understeer rule holds the target below the plan
+        # (S_US_LIMITED): the wheel is then deliberately braked less than the plan asks, at a slip its lowered pressure
+        # sets, and the pure-longitudinal inversion of a tire carrying the curve reads mu*C_x*s/sqrt((C_x*s)^2 +
+        # (C_a*tan(alpha))^2) (front_circle_measured_flag note) - falling with the pressure the rule dumped, the
+        # friction direction of the held wheel, not its capacity; the restore returns to the plan capped by the last
+        # measurement made at the plan's own pressure (R1: S_F_CAP lowered while held, then undone by the restore); the
+        # braking rule's S_MU_MEAS is left as before (its front cap reads the same inversion as the longitudinal capacity)
+        valid = p.blowout_compensation_understeer_cap_freeze_flag < 0.5 or st[S_US_LIMITED] < 0.5
+        if st[S_CAP_LATCHED] < 0.5 or (valid and f_hold < st[S_F_CAP]):
             st[S_F_CAP] = f_hold
         if st[S_MU_MEAS] <= 0.0 or mu_est < st[S_MU_MEAS]:
-            st[S_MU_MEAS] = mu_est  # the lowest measured friction, for the braking rule (braking_rule)
+            st[S_MU_MEAS] = mu_est  # the lowest measured friction, for the braking rule (braking_rule; its front cap
+            #   uses this reading as the longitudinal capacity next to the lateral force, front_circle_measured_flag)
         st[S_CAP_LATCHED] = 1.0
         st[S_P_REQ] = max(min(st[S_P_REQ], st[S_F_CAP] * p.body_wheel_radius_m / gain), st[S_P_START])
 

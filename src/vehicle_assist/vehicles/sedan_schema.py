@@ -219,6 +219,7 @@ class SedanBlowoutCompensation(Strict):
     reject_pair_low_flag: Annotated[int, Field(ge=0, le=1)] = 1  # rear rejected while braking: the higher rear brought down to the lower (select-low on the pair's pressure); 0 = defect
     gma_blown_front_flag: Annotated[int, Field(ge=0, le=1)] = 1  # front blowout compensated on the other front: the blown wheel's ABS activity does not start the GMA on the compensating wheel; 0 = defect
     understeer_flag: Annotated[int, Field(ge=0, le=1)] = 1  # front blowout inside the steered turn, understeering: outer front lowered; 0 = defect
+    understeer_cap_freeze_flag: Annotated[int, Field(ge=0, le=1)] = 1  # capacity rule does not lower its latched cap while the understeer rule holds the target below the plan (the held wheel's slip reads its lateral share, not its friction); 0 = defect (cap lowered, then bypassed by the restore)
     front_circle_measured_flag: Annotated[int, Field(ge=0, le=1)] = 1  # braking rule: compensating front capped at its MEASURED longitudinal capacity (lateral use already in it), not that less F_y again; 0 = defect
     predump_slip_flag: Annotated[int, Field(ge=0, le=1)] = 1  # braking rule: an ABS dump of the compensating front sets its re-build ceiling only with slip above the ABS hold slip; 0 = defect (any dump)
     braking_rule_flag: Annotated[int, Field(ge=0, le=1)] = 1  # front blowout + braking driver: one rule for the compensating front wheel and the rear pair; 0 = defect (the rules before)
