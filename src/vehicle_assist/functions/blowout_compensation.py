@@ -178,7 +178,9 @@ understeers - ESP practice answers that with a moment into the turn, never on th
 circle from the front axle that carries the curve. The target is lowered to the present pressure and the added pressure
 dumped; within the dead band held; restored to the balance before the lowering once the car turns toward the blown side
 beyond the reference by the dead band. Lead random 41 b512 #336 (FL 119.6 km/h mu 0.322 r650 follower): 1.31 -> 0.18 m
-(none 0.66).
+(none 0.66). While the target is held lowered the capacity rule does not lower its latched cap
+(``understeer_cap_freeze_flag``, 0 = seeded defect): the held wheel's pure-longitudinal inversion reads its friction
+direction, which falls with the dumped pressure, not its capacity; after the restore a fresh filter window first.
 Optional closed loop (``closed_loop_flag``): in HOLD, yaw toward the blown side above the deadband adds
 pulsed build on the braking wheel, yaw away from it dumps; otherwise hold.
 """
