@@ -375,7 +375,12 @@ def simulate_batch(
     def work(blocks_iter) -> None:
         rows = np.zeros((chunk, rec_max), dtype=lay.TRACE_DTYPE)
         flat_rows = rows.view(np.float64).reshape(chunk, rec_max, -1) if all_f8 else None
+        # the read channels made contiguous: by the chunk call, per run while its trace is in cache (in_call), else
+        # after the chunk in one pass (into a reused buffer: a fresh 10 MB array per chunk cost more in page faults
+        # than the copy itself)
+        in_call = all_f8 and run_chunk is not None
         gather_buf = np.empty(len(read_cols) * chunk * rec_max) if all_f8 else None
+        gathered_rows = gather_buf.reshape(len(read_cols), chunk, rec_max) if in_call else None
         events = np.zeros((EVENT_BUFFER, EVENT_FIELDS))
         for lo, hi in blocks_iter:
             m = hi - lo
@@ -397,15 +402,19 @@ def simulate_batch(
                 noise = noise_for(part_runs[slots[0]], bool(part_noisy[slots[0]]))
                 if run_chunk is not None:
                     sl = np.asarray(slots, dtype=np.int64)
-                    run_chunk(p, s, idx[sl], sl, noise, rows, events, written)
+                    if in_call:
+                        run_chunk(p, s, idx[sl], sl, noise, rows, events, written, flat_rows, read_cols, gathered_rows)
+                    else:
+                        run_chunk(p, s, idx[sl], sl, noise, rows, events, written)
                 else:
                     for j in slots:
                         written[j], _ = lay.run_kernel(p[idx[j]], s[idx[j]], noise, rows[j].view(np.recarray), events)
             lengths = written[:m]
             if np.all(lengths == lengths[0]):
                 n_rec = int(lengths[0])
-                if flat_rows is not None:  # the read channels made contiguous in one pass (into a reused buffer:
-                    # a fresh 10 MB array per chunk cost more in page faults than the copy itself)
+                if in_call and n_rec == rec_max:
+                    channels = {name: gathered_rows[c, :m] for c, name in enumerate(reads)}
+                elif flat_rows is not None:
                     gathered = gather_buf[:len(read_cols) * m * n_rec].reshape(len(read_cols), m, n_rec)
                     gather(flat_rows, m, n_rec, read_cols, gathered)
                     channels = {name: gathered[c] for c, name in enumerate(reads)}
