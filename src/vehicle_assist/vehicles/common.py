@@ -161,17 +161,19 @@ def _simulate_many(p_all, s_all, idx, slot, noise, meas_all, ctl_a_all, ctl_b_al
     unboxing per run); ``written[slot[j]]`` gets each run's record count. The state records are fresh per variant.
     ``flat_rows`` (a float64 view of ``rows``: runs, records, fields), ``cols`` and ``gathered``: right after each
     run, the fields ``cols`` of its records are copied to ``gathered[c, slot[j], :n_rec]`` while the run's trace is
-    still in the core's cache (the metrics read them contiguous; no copy if ``cols`` is empty).
+    still in the core's cache (the metrics read them contiguous; no copy if ``cols`` is empty). ``rows`` of one row:
+    a scratch trace that every run of the chunk overwrites (its copy in ``gathered`` is what is kept).
     Template of :func:`chunk_runner`: ``simulate`` is the layout's kernel, bound per layout."""
     for j in range(idx.shape[0]):
         i = idx[j]
         r = slot[j]
+        tr = r if rows.shape[0] > 1 else 0
         n_rec, _ = simulate(p_all[i], s_all[i], noise, meas_all[j], ctl_a_all[j], ctl_b_all[j],  # noqa: F821
-                            rows[r], events)
+                            rows[tr], events)
         written[r] = n_rec
         for k in range(n_rec):
             for c in range(cols.shape[0]):
-                gathered[c, r, k] = flat_rows[r, k, cols[c]]
+                gathered[c, r, k] = flat_rows[tr, k, cols[c]]
 
 
 _NO_COLS = np.zeros(0, dtype=np.int64)
