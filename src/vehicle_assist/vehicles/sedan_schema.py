@@ -124,6 +124,8 @@ class SedanEsp(Strict):
     gma_hba_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: HBA pumps past the GMA)
     gma_follow_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (GMA wheel capped below the pumped other front)
     hba_rear_select_low_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = old: rears pumped with their circuit's front
+    # select-low also while a wheel is only TPMS-named (compensation idle); 0 = seeded defect (off for any excluded wheel)
+    hba_rear_select_low_tpms_flag: Annotated[int, Field(ge=0, le=1)] = 1
     hba_master_rebuild_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: pump re-build undecided)
     hba_rampout_pumped_only_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: ramp-out unpumped)
     abs_signal_filter_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (#10 F2: raw-differenced wheel decel)
