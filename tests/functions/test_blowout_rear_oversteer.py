@@ -90,13 +90,19 @@ def test_mirror_right_blowout(params):
 ])
 def test_no_cap_inside_the_region_or_for_the_other_slide(params, beta_deg, beta_dot_deg_s, yaw_rate, why):
     """Inside the published region, or not the spin toward the blown side: the rear pair stays the driver's and ABS's
-    (a stable straight panic stop pays nothing)."""
-    st = _rule(params, beta_deg, beta_dot_deg_s, yaw_rate, periods=10)
+    (a stable straight panic stop pays nothing). The phase-plane rule alone (rear_oversteer_yaw_flag = 0): with it the
+    yaw-rate criterion holds the pair where yaw exceeds the reference (tests/functions/test_blowout_rear_yaw_hold.py)."""
+    p0 = params.copy()
+    p0.blowout_compensation_rear_oversteer_yaw_flag = 0.0
+    st = _rule(p0, beta_deg, beta_dot_deg_s, yaw_rate, periods=10)
     assert st[bc.S_REAR_CAP] < 0.0, why
 
 
 def test_cap_ends_back_inside_the_region(params):
-    """Once the state is back inside the region the rule's cap ends (no latched pressure loss)."""
+    """Once the state is back inside the region the rule's cap ends (no latched pressure loss). Phase-plane rule alone
+    (rear_oversteer_yaw_flag = 0; the yaw 0.15 rad/s here would keep the yaw-rate hold)."""
+    params = params.copy()
+    params.blowout_compensation_rear_oversteer_yaw_flag = 0.0
     st = _rule(params, periods=10, **SPIN_LEFT)
     assert st[bc.S_REAR_CAP] >= 0.0
     st[bc.S_BETA_DOT] = 0.0

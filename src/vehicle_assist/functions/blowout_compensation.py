@@ -293,7 +293,10 @@ S_RAMP_P0 = S_SPIN_EXITED + 1
 S_RAMP_T = S_RAMP_P0 + 1
 S_RAMP_DUR = S_RAMP_T + 1
 S_RB_HIGH = S_RAMP_DUR + 1  # rear_braking_rule: the highest driver's pressure the rear compensating wheel reached [Pa]
-STATE_SIZE = S_RB_HIGH + 1
+# rear_oversteer_yaw_flag: 1 once the yaw rate exceeded the steered reference toward the blown side after the build (the
+# rear pair held, ``rear_oversteer_cap``) - the released wheel's real flat, not a false alarm (0 otherwise)
+S_OS_YAW_SEEN = S_RB_HIGH + 1
+STATE_SIZE = S_OS_YAW_SEEN + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -1120,6 +1123,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_BETA_DOT] = 0.0
             st[S_PSI_ERR] = 0.0
             st[S_SPIN_EXITED] = 0.0
+            st[S_OS_YAW_SEEN] = 0.0
             st[S_BETA_OWN] = 0.0  # the model of the function's own yaw moment starts at the detection (yaw_net_flag)
             st[S_R_OWN] = 0.0
             st[S_OVERSPEED_S] = 0.0
@@ -1206,7 +1210,10 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             _plan(st, b, sub, True, st[S_SLIP_EST], a_x, a_y_ref, p_est, p)
             n_events = log_event(events, n_events, t, machine_id, mode, LIMITED, G_STUCK)
             mode = LIMITED
-        elif single and (judged < -p.blowout_compensation_abort_yaw_rate_radps or unconfirmed):
+        elif single and ((judged < -p.blowout_compensation_abort_yaw_rate_radps and st[S_OS_YAW_SEEN] < 0.5)
+                         or unconfirmed):
+            # (rear_oversteer_yaw_flag: S_OS_YAW_SEEN, the yaw once beyond the reference toward the blown side after
+            # the build, confirms the flat - the yaw away afterwards is the held rear pair's, not a false alarm)
             n_events = log_event(events, n_events, t, machine_id, mode, REJECTED,
                                  G_YAW_IMPLAUSIBLE if judged < -p.blowout_compensation_abort_yaw_rate_radps
                                  else G_UNCONFIRMED)
@@ -1386,7 +1393,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         if p.blowout_compensation_understeer_flag > 0.5:
             understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, requests, p, dt)
     if p.blowout_compensation_braking_rule_flag > 0.5:
-        braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p)
+        braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref)
     return n_events
 
 
@@ -1436,7 +1443,7 @@ def understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, reque
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p):
+def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref=0.0):
     """One rule for a FRONT blowout while the driver brakes (``braking_rule_flag``, 0 = seeded defect = the rules
     before; issue #10, falsifier random seed 7 #15/#16). Yaw-moment balance of the four brake forces with the blown
     front wheel unbraked (it only drags, D = mu_blow*F'_z, eqs. 22-25): M_z = b_f*(D - F_opp) + b_r*(F_rl - F_rr)
@@ -1514,7 +1521,7 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
             f_rr = max(f_rr, wheel_circle_limit_mu(3, gl[3], a_y_ref, mu, b, p))
         st[S_REAR_CAP] = min(f_rl, f_rr) * r_w / p.brakes_rear_gain_nm_per_pa
     if p.blowout_compensation_rear_oversteer_flag > 0.5:
-        rear_oversteer_cap(st, b, yaw_rate, p_est, p)
+        rear_oversteer_cap(st, b, yaw_rate, p_est, p, r_ref, mode)
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -1550,19 +1557,35 @@ def rear_braking_rule(st, b, tg, mode, braking, p_mc, p_est, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def rear_oversteer_cap(st, b, yaw_rate, p_est, p):
+def rear_oversteer_cap(st, b, yaw_rate, p_est, p, r_ref=0.0, mode=-1):
     """Rear pair in an oversteer toward the blown side (``rear_oversteer_flag``, 0 = seeded defect = the rear pair
     capped only on a measured friction): while the sideslip phase-plane state is outside the stable region and the
     slide is the spin toward the blown side (``phase_plane_unstable`` with the direction test of ``spin_front_applies``:
     yaw toward the blown side, beta_dot + B1*beta away from it), the pair is held at its lower present pressure and
     lowered one step per period (the ESP's oversteer intervention under braking: the rear axle's brake pressure is
     reduced so the rear tires get their lateral force back - van Zanten, SAE 2000-01-1633). Back inside the region the
-    cap ends (ABS and the other caps again)."""
+    cap ends (ABS and the other caps again).
+    ``rear_oversteer_yaw_flag`` (0 = seeded defect = the phase plane alone): the ESP's yaw-rate oversteer criterion too -
+    after the build (not in BUILD: the released wheel's moment is still in the yaw), the measured yaw rate beyond the
+    steered reference toward the blown side by more than the dead band, the car itself turning that way: the pair is
+    HELD at its lower present pressure (not re-built by ABS/HBA; lowering stays the phase plane's), and S_OS_YAW_SEEN
+    marks the detection confirmed (``blowout_step`` no longer rejects it as yaw-implausible: a released healthy wheel
+    with the opposite front braked yaws the car away, never toward it). R1's random 3 b64 #58 (FL 93 km/h mu 0.60 r650,
+    HBA): the rears were re-built 30 -> 56 bar while the car yawed 0.1-0.27 rad/s toward FL (reference 0.04): 1.270 ->
+    0.889 m (none 0.357; what remains was built before the detection, findings_F.md G6)."""
+    yaw_os = (p.blowout_compensation_rear_oversteer_yaw_flag > 0.5
+              and toward_blown_side(b, yaw_rate) > p.blowout_compensation_yaw_deadband_radps
+              and toward_blown_side(b, yaw_rate + r_ref) > 0.0 and mode != BUILD)
     if phase_plane_spin(b, yaw_rate, st[S_BETA_EST], st[S_BETA_DOT], p):
         low = min(p_est[2], p_est[3])
         c = st[S_REAR_OS_CAP]
         c = low if c < 0.0 else min(c, low)
         st[S_REAR_OS_CAP] = max(c - p.blowout_compensation_rear_oversteer_step_pa, 0.0)
+    elif yaw_os:
+        low = min(p_est[2], p_est[3])
+        c = st[S_REAR_OS_CAP]
+        st[S_REAR_OS_CAP] = low if c < 0.0 else min(c, low)
+        st[S_OS_YAW_SEEN] = 1.0
     else:
         st[S_REAR_OS_CAP] = -1.0
     if st[S_REAR_OS_CAP] >= 0.0:
