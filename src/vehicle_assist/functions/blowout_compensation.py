@@ -290,7 +290,10 @@ S_SPIN_EXITED = S_PSI_ERR + 1
 S_RAMP_P0 = S_SPIN_EXITED + 1
 S_RAMP_T = S_RAMP_P0 + 1
 S_RAMP_DUR = S_RAMP_T + 1
-STATE_SIZE = S_RAMP_DUR + 1
+# ABS activity per wheel as the ESP sees it (spec 4.3: a hold or dump in the last 0.3 s; 1/0), written by functions/
+# esp.py before each blowout_step (blown_front_hold_flag: is the compensating front at its ABS limit)
+S_ABS_ACTIVE = S_RAMP_DUR + 1  # 4 slots, fl fr rl rr
+STATE_SIZE = S_ABS_ACTIVE + 4
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -1274,6 +1277,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     tg = int(st[S_TARGET])
     if b >= 0:
         requests[b] = Q_RELEASE
+        if p.blowout_compensation_blown_front_hold_flag > 0.5:
+            blown_front_hold(st, b, tg, mode, braking, yaw_rate, requests, p)
     # (ramp_refused_flag) the ramp only while the rear compensates (BUILD/HOLD): REFUSED after the exit is a car beyond
     # the bounds rotating AWAY from the blown side (toward it the spin-front rule takes over), and the spin-front wheel's
     # pressure is a moment in that rotation's direction - the feed-forward stands down there (Q_NONE), as at once
@@ -1385,6 +1390,38 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     if p.blowout_compensation_braking_rule_flag > 0.5:
         braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p)
     return n_events
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def blown_front_hold(st, b, tg, mode, braking, yaw_rate, requests, p):
+    """The blown FRONT wheel is held at its present (ABS) pressure instead of released (``blown_front_hold_flag``,
+    0 = seeded defect = always released; findings_F.md X2, lead random 41 b512 #273) while the driver brakes, the
+    compensation runs on the other front (BUILD/HOLD/LIMITED) and that front is at its ABS limit (ABS active on it:
+    a hold or dump in the last 0.3 s, spec 4.3, S_ABS_ACTIVE from functions/esp.py), unless the car yaws toward the
+    blown side beyond the steered reference by more than the closed-loop dead band.
+
+    Why: the paper releases the blown wheel (eqs. 26-28, F_b = 0) inside a balance in which the other front wheel
+    takes the counter-force p_w, M_z = b_f*(F_b + D - F_opp) = 0. With the driver's pressure already holding that
+    wheel at its lock level, ABS caps it (the arbitration gives BUILD/HOLD way to ABS): the function has no
+    authority left on the front axle, and the release is then the only moment it makes - b_f*K_b*p_b/R away from
+    the blown side, open loop, of a size set by the driver's pedal and not by the blowout (the ECU knows neither the
+    true drag D nor the road friction). Held, the front axle carries what it carries without the function (the
+    twin); released, the yaw follows the pedal. The yaw rate decides which is needed: yawing toward the blown side
+    beyond the dead band (the drag's moment not balanced) the release answers it and goes on as before; within the
+    dead band or short of the steered reference the release would only add yaw away from the blown side that the
+    saturated outer front cannot take back (ESP practice: understeer - yaw rate short of the steering's demand - is
+    answered by a moment into the turn, never by taking brake force off the inner front; van Zanten, Bosch ESP
+    Systems: 5 Years of Experience, SAE 2000-01-1633). Held = Q_HOLD: never built above where it is, ABS still
+    dumps it (BLOWOUT_ARBITRATION row HOLD)."""
+    if braking < 0.5 or b < 0 or b >= 2 or tg < 0 or tg >= 2 or tg == b:
+        return
+    if not (mode == BUILD or mode == HOLD or mode == LIMITED):
+        return
+    if st[S_ABS_ACTIVE + tg] < 0.5:
+        return
+    if toward_blown_side(b, yaw_rate) > p.blowout_compensation_yaw_deadband_radps:
+        return
+    requests[b] = Q_HOLD
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
