@@ -1278,7 +1278,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     if b >= 0:
         requests[b] = Q_RELEASE
         if p.blowout_compensation_blown_front_hold_flag > 0.5:
-            blown_front_hold(st, b, tg, mode, braking, yaw_rate, requests, p)
+            blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p)
     # (ramp_refused_flag) the ramp only while the rear compensates (BUILD/HOLD): REFUSED after the exit is a car beyond
     # the bounds rotating AWAY from the blown side (toward it the spin-front rule takes over), and the spin-front wheel's
     # pressure is a moment in that rotation's direction - the feed-forward stands down there (Q_NONE), as at once
@@ -1393,34 +1393,36 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def blown_front_hold(st, b, tg, mode, braking, yaw_rate, requests, p):
-    """The blown FRONT wheel is held at its present (ABS) pressure instead of released (``blown_front_hold_flag``,
-    0 = seeded defect = always released; findings_F.md X2, lead random 41 b512 #273) while the driver brakes, the
-    compensation runs on the other front (BUILD/HOLD/LIMITED) and that front is at its ABS limit (ABS active on it:
-    a hold or dump in the last 0.3 s, spec 4.3, S_ABS_ACTIVE from functions/esp.py), unless the car yaws toward the
-    blown side beyond the steered reference by more than the closed-loop dead band.
+def blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p):
+    """The blown FRONT wheel, the inner front of a turn steered toward it, is held at its present (ABS) pressure instead
+    of released (``blown_front_hold_flag``, 0 = seeded defect = always released; findings_F.md X2, lead random 41 b512
+    #273) while: the driver brakes; the compensation runs on the other front (BUILD/HOLD/LIMITED); that front is at
+    its ABS limit (ABS active on it - a hold or dump in the last 0.3 s, spec 4.3, S_ABS_ACTIVE from functions/esp.py);
+    the steered reference yaw rate (``reference_yaw_rate``) points toward the blown side by more than the closed-loop
+    dead band (a curve toward it); and the measured yaw rate is not above that reference toward the blown side.
 
-    Why: the paper releases the blown wheel (eqs. 26-28, F_b = 0) inside a balance in which the other front wheel
-    takes the counter-force p_w, M_z = b_f*(F_b + D - F_opp) = 0. With the driver's pressure already holding that
-    wheel at its lock level, ABS caps it (the arbitration gives BUILD/HOLD way to ABS): the function has no
-    authority left on the front axle, and the release is then the only moment it makes - b_f*K_b*p_b/R away from
-    the blown side, open loop, of a size set by the driver's pedal and not by the blowout (the ECU knows neither the
-    true drag D nor the road friction). Held, the front axle carries what it carries without the function (the
-    twin); released, the yaw follows the pedal. The yaw rate decides which is needed: yawing toward the blown side
-    beyond the dead band (the drag's moment not balanced) the release answers it and goes on as before; within the
-    dead band or short of the steered reference the release would only add yaw away from the blown side that the
-    saturated outer front cannot take back (ESP practice: understeer - yaw rate short of the steering's demand - is
-    answered by a moment into the turn, never by taking brake force off the inner front; van Zanten, Bosch ESP
-    Systems: 5 Years of Experience, SAE 2000-01-1633). Held = Q_HOLD: never built above where it is, ABS still
-    dumps it (BLOWOUT_ARBITRATION row HOLD)."""
+    Why: the paper releases the blown wheel (eqs. 26-28, F_b = 0) inside a balance in which the other front takes the
+    counter-force p_w: M_z = b_f*(F_b + D - F_opp) = 0. With the driver's pressure already holding that front at its
+    lock level, ABS caps it (the arbitration gives BUILD/HOLD way to ABS): the function has no authority left on the
+    front axle, and the release is the only moment it makes - b_f*K_b*p_b/R away from the blown side, of a size set
+    by the pedal, not by the blowout. In a turn toward the blown side that moment points out of the turn. An ESP
+    uses a moment out of the turn against oversteer only; with the yaw rate at or below the steering's demand (no
+    oversteer; below it: understeer, answered by a moment INTO the turn) it takes no brake force off the inner front
+    (van Zanten, Bosch ESP Systems: 5 Years of Experience, SAE 2000-01-1633; Bosch Automotive Handbook, ESP). So the
+    sign of the yaw deviation decides: above the reference (the drag turning the car in) the release goes on as
+    before, otherwise the blown front keeps what the driver and ABS give it, as without the function. On a straight
+    road (no inner wheel) the paper's release stands (the drag is a pure disturbance; holding there cost #101 1.99 ->
+    3.31 m). Held = Q_HOLD: never built above where it is, ABS still dumps and re-builds it (BLOWOUT_ARBITRATION)."""
     if braking < 0.5 or b < 0 or b >= 2 or tg < 0 or tg >= 2 or tg == b:
         return
     if not (mode == BUILD or mode == HOLD or mode == LIMITED):
         return
     if st[S_ABS_ACTIVE + tg] < 0.5:
         return
-    if toward_blown_side(b, yaw_rate) > p.blowout_compensation_yaw_deadband_radps:
-        return
+    if toward_blown_side(b, r_ref) <= p.blowout_compensation_yaw_deadband_radps:
+        return  # not a turn toward the blown side
+    if toward_blown_side(b, yaw_rate) > 0.0:
+        return  # yawing toward the blown side beyond the steering's demand: the release answers it
     requests[b] = Q_HOLD
 
 

@@ -220,7 +220,7 @@ class SedanBlowoutCompensation(Strict):
     gma_blown_front_flag: Annotated[int, Field(ge=0, le=1)] = 1  # front blowout compensated on the other front: the blown wheel's ABS activity does not start the GMA on the compensating wheel; 0 = defect
     understeer_flag: Annotated[int, Field(ge=0, le=1)] = 1  # front blowout inside the steered turn, understeering: outer front lowered; 0 = defect
     front_circle_measured_flag: Annotated[int, Field(ge=0, le=1)] = 1  # braking rule: compensating front capped at its MEASURED longitudinal capacity (lateral use already in it), not that less F_y again; 0 = defect
-    blown_front_hold_flag: Annotated[int, Field(ge=0, le=1)] = 1  # front blowout, driver braking, other front at its ABS limit, yaw not toward the blown side beyond the dead band: blown front held (not released); 0 = defect
+    blown_front_hold_flag: Annotated[int, Field(ge=0, le=1)] = 1  # front blowout, driver braking, turn toward the blown side, other front at its ABS limit, yaw not above the steered reference: blown (inner) front held, not released; 0 = defect
     predump_slip_flag: Annotated[int, Field(ge=0, le=1)] = 1  # braking rule: an ABS dump of the compensating front sets its re-build ceiling only with slip above the ABS hold slip; 0 = defect (any dump)
     braking_rule_flag: Annotated[int, Field(ge=0, le=1)] = 1  # front blowout + braking driver: one rule for the compensating front wheel and the rear pair; 0 = defect (the rules before)
     braking_share_frac: Annotated[float, Field(ge=0, le=1)] = 1.0  # share of the driver's pressure on top of the drag balance (braking rule)
