@@ -1412,7 +1412,11 @@ def blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p):
     sign of the yaw deviation decides: above the reference (the drag turning the car in) the release goes on as
     before, otherwise the blown front keeps what the driver and ABS give it, as without the function. On a straight
     road (no inner wheel) the paper's release stands (the drag is a pure disturbance; holding there cost #101 1.99 ->
-    3.31 m). Held = Q_HOLD: never built above where it is, ABS still dumps and re-builds it (BLOWOUT_ARBITRATION)."""
+    3.31 m). Held = Q_HOLD: the function adds no build and takes nothing off; ABS keeps its hold, dump and pulsed
+    re-build from the master of the wheel (BLOWOUT_ARBITRATION row HOLD), as without the function - a flat wheel ABS had
+    dumped before the detection is re-built by it too (random 3 fl/fr-braking b64 #53: 1.2 -> 34-46 bar, 0.49 -> 1.94
+    m, none 8.36; capping the re-build at the detection's pressure fixed that but re-opened braking 5 #124 and 13 #45,
+    2.04 / 2.20 m vs none 1.34 / 2.00: not done)."""
     if braking < 0.5 or b < 0 or b >= 2 or tg < 0 or tg >= 2 or tg == b:
         return
     if not (mode == BUILD or mode == HOLD or mode == LIMITED):
