@@ -218,3 +218,33 @@ def test_chunk_runner_loads_from_the_cache_in_a_new_process():
             for _ in range(2)]
     stats = json.loads(runs[1].stdout.strip().splitlines()[-1])
     assert stats == {"truck_amt": [1, 0], "ev_ehb": [1, 0]}, stats
+
+
+def test_stop_events_are_detected_in_the_records():
+    """A chunk whose runs may end early gets full trace rows (the in-call copy assumes runs of one length): the
+    detector reads the scenario records. Reference: the events each scenario was given (stop / set_input / none)."""
+    from vehicle_assist.scenarios.runner import _may_stop, pack_records
+
+    base = va.load_scenario("ev_5deg_hold_and_pull_away")
+    scs = [base.with_sets("events=[]"), base.with_sets('events=[{at_s=6.0, action="stop"}]'),
+           base.with_sets('events=[{at_s=1.0, action="set_input", input="accelerator", value=0.2}, '
+                          '{at_s=6.0, action="stop"}]'),
+           base.with_sets('events=[{at_s=1.0, action="set_input", input="accelerator", value=0.2}]')]
+    s = pack_records([sc.flat for sc in scs])
+    assert [_may_stop(s, np.array([i])) for i in range(4)] == [False, True, True, False]
+    assert _may_stop(s, np.array([0, 3])) is False and _may_stop(s, np.array([0, 2])) is True
+
+
+def test_runs_of_different_length_without_a_stop_event_are_run_again(monkeypatch):
+    """If runs of one chunk end up with different lengths although no stop event was found (the detector missed
+    one), the chunk is run again into full trace rows: metrics and kept channels still those of single runs."""
+    from vehicle_assist.scenarios import runner
+
+    base = va.load_scenario("ev_5deg_hold_and_pull_away")
+    scs = [base, base.with_sets('events=[{at_s=6.0, action="stop"}]')]
+    monkeypatch.setattr(runner, "_may_stop", lambda s, idx: False)
+    res = simulate_batch(scs, keep_channels=["speed_mps"], workers=1)
+    for sc, metrics, kept in zip(scs, res.metrics, res.channels):
+        ref = va.simulate(sc, requirements=False)
+        assert all(_same(ref.metrics[k], metrics[k]) for k in ref.metrics), sc.name
+        assert kept["speed_mps"].tobytes() == ref.trace.channels["speed_mps"].tobytes(), sc.name

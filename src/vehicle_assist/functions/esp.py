@@ -522,6 +522,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     # Not while a wheel is known or suspected blown (blown >= 0): then the one-sided ABS activity is the blown
     # wheel's release, not a split-mu road, and the blowout arbitration (issue #10) governs as before.
     gma_wheel = int(ctl[C_GMA_WHEEL])
+    # a wheel only NAMED by the TPMS: excluded from the reference but not (yet) detected by the compensation
+    tpms_only = blown >= 0 and int(bst[bc.S_BLOWN]) < 0
     for i in range(4):
         row = hba_mode
         src_i = p_mc if i < 2 else _prop(p_mc, p)
@@ -558,13 +560,22 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             elif req == R_OFF or req == R_BUILD or req == R_GMA_PULSE:
                 req = R_GMA_HOLD  # at the other front's pressure: hold, circuit isolated
         wm = ARBITRATION[row, req] if abs_ok else W_N
-        if (i >= 2 and row == hba.ACTIVE and (wm == W_B or wm == W_BP) and blown < 0
-                and p.esp_hba_rear_select_low_flag > 0.5 and ctl[C_SOURCE_C1 + CIRCUIT[5 - i]] == SRC_PUMP
-                and wheels[i, A_P_EST] >= wheels[5 - i, A_P_EST] + RAMP_SETTLED_PA):
+        if (i >= 2 and row == hba.ACTIVE and (wm == W_B or wm == W_BP)
+                and p.esp_hba_rear_select_low_flag > 0.5
+                and wheels[i, A_P_EST] >= wheels[5 - i, A_P_EST] + RAMP_SETTLED_PA
+                and ((blown < 0 and ctl[C_SOURCE_C1 + CIRCUIT[5 - i]] == SRC_PUMP)
+                     or (tpms_only and p.esp_hba_rear_select_low_tpms_flag > 0.5))):
             # rear select-low on pressure during the pump build: the X-split pumps a rear with its circuit's front, so
             # on split-mu the high-mu rear of the low-mu front's circuit was pumped above the other rear (86-89 vs
             # 65-75 bar at 80 km/h dry/wet) - a yaw moment no ABS rear has (its rears follow the more critical one);
-            # a rear builds only up to the other rear's pressure (estimate), then holds with the circuit isolated
+            # a rear builds only up to the other rear's pressure (estimate), then holds with the circuit isolated.
+            # (hba_rear_select_low_tpms_flag) While a wheel is only NAMED by the TPMS (excluded from the reference,
+            # the blowout compensation not yet acting: no rear cap of its own) the select-low holds whatever the other
+            # rear's source: the named wheel's circuit is not pump-served, so its rear stays on the driver's
+            # proportioned pressure while the pump lifts the other circuit's rear - random 29 #46, FL named: RL
+            # pumped to 78-83 bar against RR's 31-36, the car yawed toward FL and spun (8.64 m vs 2.01 m without
+            # compensation; with the rule 0.60 m). Once the wheel is DETECTED the compensation's braking rule
+            # (S_REAR_CAP) governs the rear pair, as before.
             wm = W_HI
         if (wm == W_BP and row == hba.ACTIVE and i < 2 and ctl[C_SOURCE_C1 + CIRCUIT[i]] == SRC_UNDECIDED
                 and p_mc - wheels[i, A_P_EST] > RAMP_SETTLED_PA and hst[hba.S_RATE] >= 0.0 and blown < 0

@@ -25,7 +25,7 @@ from vehicle_assist.core.trace import Trace
 from vehicle_assist.metrics import compute_metrics
 from vehicle_assist.scenarios.loader import LoadedScenario
 from vehicle_assist.vehicles import layouts
-from vehicle_assist.vehicles.common import EVENT_BUFFER
+from vehicle_assist.vehicles.common import ACT_STOP, EVENT_BUFFER
 
 TABLE_CAPACITY_STEP = 32  # table and array fields are padded to multiples of this: one dtype, one compile
 BATCH_CHUNK = 32  # at most this many variants per compiled call and metrics evaluation (one trace buffer per worker)
@@ -285,6 +285,17 @@ def _checks_ok(checks, metrics: dict[str, np.ndarray], n: int) -> np.ndarray:
     return ok
 
 
+def _may_stop(s_rec: np.ndarray, idx: np.ndarray) -> bool:
+    """Some variant ``idx`` of the scenario records ``s_rec`` has a stop event (its run may end early)."""
+    try:
+        count = np.asarray(s_rec["event_count"])[idx]
+        action = np.asarray(s_rec["event_action"]).reshape(len(s_rec), -1)[idx]
+    except (KeyError, ValueError):
+        return True
+    live = np.arange(action.shape[1])[None, :] < count[:, None]
+    return bool(np.any(live & (action == ACT_STOP)))
+
+
 def _chunk_size(n_rec: int, itemsize: int) -> int:
     """Variants per chunk: up to BATCH_CHUNK, a trace buffer of at most ~32 MB per worker."""
     return int(max(4, min(BATCH_CHUNK, 32_000_000 // max(1, n_rec * itemsize))))
@@ -372,10 +383,22 @@ def simulate_batch(
     all_f8 = all(lay.TRACE_DTYPE.fields[f][0] == np.float64 for f in lay.TRACE_DTYPE.names) and \
         lay.TRACE_DTYPE.itemsize == 8 * len(lay.TRACE_DTYPE.names)
 
+    # the in-call copy (layouts with a chunk call and an all-float64 trace): the chunk call copies the fields the
+    # metrics read and the kept channels out of each run's trace right after the run, while it is in the core's cache,
+    # into a (fields, chunk, records) buffer per worker; every run of the chunk then writes its trace into one reused
+    # row (cache-resident), and no chunk-sized trace buffer is streamed through the cache between the runs and the
+    # metrics. A chunk whose runs may end early (a stop event: lengths may differ, and the per-run fallback below reads
+    # every channel) gets full trace rows instead.
+    in_call = all_f8 and run_chunk is not None
+    copied = list(reads) + [c for c in ["time_s"] + keep if c not in reads]
+    copy_cols = np.array([field_index[c] for c in copied], dtype=np.int64)
+    copy_at = {name: c for c, name in enumerate(copied)}
+
     def work(blocks_iter) -> None:
-        rows = np.zeros((chunk, rec_max), dtype=lay.TRACE_DTYPE)
-        flat_rows = rows.view(np.float64).reshape(chunk, rec_max, -1) if all_f8 else None
-        gather_buf = np.empty(len(read_cols) * chunk * rec_max) if all_f8 else None
+        rows = flat_rows = gather_buf = None  # full trace rows of a chunk: allocated when a chunk needs them
+        scratch = np.zeros((1, rec_max), dtype=lay.TRACE_DTYPE) if in_call else None
+        scratch_flat = scratch.view(np.float64).reshape(1, rec_max, -1) if in_call else None
+        copy_buf = np.empty((len(copy_cols), chunk, rec_max)) if in_call else None
         events = np.zeros((EVENT_BUFFER, EVENT_FIELDS))
         for lo, hi in blocks_iter:
             m = hi - lo
@@ -389,29 +412,50 @@ def simulate_batch(
                 idx = np.arange(m)
                 part_runs = [base.model.run] * m
                 part_noisy = np.any(np.nan_to_num(np.asarray(s["sensor_noise_std"]).reshape(m, -1)) != 0.0, axis=1)
-            written = np.zeros(chunk, dtype=np.int64)
             groups: dict[tuple, list[int]] = {}
             for j in range(m):
                 groups.setdefault(_noise_key(part_runs[j], bool(part_noisy[j])), []).append(j)
-            for key, slots in groups.items():
-                noise = noise_for(part_runs[slots[0]], bool(part_noisy[slots[0]]))
-                if run_chunk is not None:
-                    sl = np.asarray(slots, dtype=np.int64)
-                    run_chunk(p, s, idx[sl], sl, noise, rows, events, written)
-                else:
-                    for j in slots:
-                        written[j], _ = lay.run_kernel(p[idx[j]], s[idx[j]], noise, rows[j].view(np.recarray), events)
-            lengths = written[:m]
+            use_copy = in_call and not _may_stop(s, idx)
+            for attempt in range(2):
+                if not use_copy and rows is None:
+                    rows = np.zeros((chunk, rec_max), dtype=lay.TRACE_DTYPE)
+                    if all_f8:
+                        flat_rows = rows.view(np.float64).reshape(chunk, rec_max, -1)
+                        gather_buf = np.empty(len(read_cols) * chunk * rec_max)
+                written = np.zeros(chunk, dtype=np.int64)
+                for key, slots in groups.items():
+                    noise = noise_for(part_runs[slots[0]], bool(part_noisy[slots[0]]))
+                    if run_chunk is not None:
+                        sl = np.asarray(slots, dtype=np.int64)
+                        if use_copy:
+                            run_chunk(p, s, idx[sl], sl, noise, scratch, events, written, scratch_flat, copy_cols,
+                                      copy_buf)
+                        else:
+                            run_chunk(p, s, idx[sl], sl, noise, rows, events, written)
+                    else:
+                        for j in slots:
+                            written[j], _ = lay.run_kernel(p[idx[j]], s[idx[j]], noise, rows[j].view(np.recarray),
+                                                           events)
+                lengths = written[:m]
+                if not use_copy or np.all(lengths == lengths[0]):
+                    break
+                use_copy = False  # not expected without a stop event: the chunk again, into full trace rows
             if np.all(lengths == lengths[0]):
                 n_rec = int(lengths[0])
-                if flat_rows is not None:  # the read channels made contiguous in one pass (into a reused buffer:
+                if use_copy:
+                    channels = {name: copy_buf[c, :m] if n_rec == rec_max else
+                                np.ascontiguousarray(copy_buf[c, :m, :n_rec]) for c, name in enumerate(reads)}
+                    t_s = np.array(copy_buf[copy_at["time_s"], 0, :n_rec])
+                elif flat_rows is not None:  # the read channels made contiguous in one pass (into a reused buffer:
                     # a fresh 10 MB array per chunk cost more in page faults than the copy itself)
                     gathered = gather_buf[:len(read_cols) * m * n_rec].reshape(len(read_cols), m, n_rec)
                     gather(flat_rows, m, n_rec, read_cols, gathered)
                     channels = {name: gathered[c] for c, name in enumerate(reads)}
+                    t_s = np.array(rows["time_s"][0, :n_rec])
                 else:
                     channels = {name: rows[name][:m, :n_rec] for name in lay.CHANNELS if name != "time_s"}
-                chunk_metrics = compute_metrics_fast(channels, np.array(rows["time_s"][0, :n_rec]), selected)
+                    t_s = np.array(rows["time_s"][0, :n_rec])
+                chunk_metrics = compute_metrics_fast(channels, t_s, selected)
                 keys = list(chunk_metrics)
                 columns = [np.asarray(chunk_metrics[k], dtype=np.float64).tolist() for k in keys]
                 per_variant = [dict(zip(keys, vals)) for vals in zip(*columns)] if keys else [{} for _ in range(m)]
@@ -431,7 +475,9 @@ def simulate_batch(
                 metrics[i] = per_variant[j]
                 oks[i] = bool(ok[j])
                 if keep:
-                    kept[i] = {c: np.array(rows[c][j, :lengths[j]:keep_every]) for c in ["time_s"] + keep}
+                    kept[i] = ({c: np.array(copy_buf[copy_at[c], j, :lengths[j]:keep_every]) for c in ["time_s"] + keep}
+                               if use_copy else
+                               {c: np.array(rows[c][j, :lengths[j]:keep_every]) for c in ["time_s"] + keep})
             if progress is not None:
                 progress(m)
 

@@ -155,22 +155,37 @@ def apply_events(s, fired, due, t, signals, events, n_events, machine_id, overri
 
 
 # --------------------------------------------------------------------------- batch path (the chunk call)
-def _simulate_many(p_all, s_all, idx, slot, noise, meas_all, ctl_a_all, ctl_b_all, rows, events, written):
+def _simulate_many(p_all, s_all, idx, slot, noise, meas_all, ctl_a_all, ctl_b_all, rows, events, written,
+                   flat_rows, cols, gathered):
     """Run variants ``p_all[idx[j]]``, ``s_all[idx[j]]`` into ``rows[slot[j]]`` in one compiled call (no record
     unboxing per run); ``written[slot[j]]`` gets each run's record count. The state records are fresh per variant.
+    ``flat_rows`` (a float64 view of ``rows``: runs, records, fields), ``cols`` and ``gathered``: right after each
+    run, the fields ``cols`` of its records are copied to ``gathered[c, slot[j], :n_rec]`` while the run's trace is
+    still in the core's cache (the metrics read them contiguous; no copy if ``cols`` is empty). ``rows`` of one row:
+    a scratch trace that every run of the chunk overwrites (its copy in ``gathered`` is what is kept).
     Template of :func:`chunk_runner`: ``simulate`` is the layout's kernel, bound per layout."""
     for j in range(idx.shape[0]):
         i = idx[j]
+        r = slot[j]
+        tr = r if rows.shape[0] > 1 else 0
         n_rec, _ = simulate(p_all[i], s_all[i], noise, meas_all[j], ctl_a_all[j], ctl_b_all[j],  # noqa: F821
-                            rows[slot[j]], events)
-        written[slot[j]] = n_rec
+                            rows[tr], events)
+        written[r] = n_rec
+        for k in range(n_rec):
+            for c in range(cols.shape[0]):
+                gathered[c, r, k] = flat_rows[tr, k, cols[c]]
+
+
+_NO_COLS = np.zeros(0, dtype=np.int64)
+_NO_ROWS = np.zeros((1, 1, 1))
 
 
 def chunk_runner(simulate, layout, meas_dtype, initial_state_a, initial_state_b):
     """``(simulate_many, run_chunk)`` of a layout whose kernel is ``simulate(p, s, noise, meas, ctl_a, ctl_b, tr,
     events)``: the compiled chunk loop and its batch interface ``run_chunk(p_all, s_all, idx, slot, noise, rows,
-    events, written)`` (fresh measurement and controller state records per variant, from ``meas_dtype`` and the
-    two controllers' ``initial_state``).
+    events, written, flat_rows=None, cols=None, gathered=None)`` (fresh measurement and controller state records
+    per variant, from ``meas_dtype`` and the two controllers' ``initial_state``; the last three: the per-run copy of
+    some trace fields, see simulate_many).
 
     One loop for every layout, compiled per layout with its kernel bound as a global: a jitted function passed as
     an argument, or a closure over it, is keyed in numba's cache on the dispatcher object and so recompiles in
@@ -182,11 +197,14 @@ def chunk_runner(simulate, layout, meas_dtype, initial_state_a, initial_state_b)
     fn.__doc__ = _simulate_many.__doc__
     simulate_many = nb.njit(cache=True, nogil=True, error_model="numpy")(fn)
 
-    def run_chunk(p_all, s_all, idx, slot, noise, rows, events, written):
+    def run_chunk(p_all, s_all, idx, slot, noise, rows, events, written, flat_rows=None, cols=None, gathered=None):
         """Batch interface: the variants ``idx`` of the packed records into trace rows ``slot`` (see
         simulate_many)."""
         n = len(idx)
+        if cols is None:
+            flat_rows, cols, gathered = _NO_ROWS, _NO_COLS, _NO_ROWS
         return simulate_many(p_all, s_all, idx, slot, noise, np.zeros(n, dtype=meas_dtype),
-                             np.repeat(initial_state_a(), n), np.repeat(initial_state_b(), n), rows, events, written)
+                             np.repeat(initial_state_a(), n), np.repeat(initial_state_b(), n), rows, events, written,
+                             flat_rows, cols, gathered)
 
     return simulate_many, run_chunk

@@ -124,6 +124,8 @@ class SedanEsp(Strict):
     gma_hba_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: HBA pumps past the GMA)
     gma_follow_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (GMA wheel capped below the pumped other front)
     hba_rear_select_low_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = old: rears pumped with their circuit's front
+    # select-low also while a wheel is only TPMS-named (compensation idle); 0 = seeded defect (off for any excluded wheel)
+    hba_rear_select_low_tpms_flag: Annotated[int, Field(ge=0, le=1)] = 1
     hba_master_rebuild_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: pump re-build undecided)
     hba_rampout_pumped_only_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: ramp-out unpumped)
     abs_signal_filter_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (#10 F2: raw-differenced wheel decel)
@@ -219,6 +221,7 @@ class SedanBlowoutCompensation(Strict):
     reject_pair_low_flag: Annotated[int, Field(ge=0, le=1)] = 1  # rear rejected while braking: the higher rear brought down to the lower (select-low on the pair's pressure); 0 = defect
     gma_blown_front_flag: Annotated[int, Field(ge=0, le=1)] = 1  # front blowout compensated on the other front: the blown wheel's ABS activity does not start the GMA on the compensating wheel; 0 = defect
     understeer_flag: Annotated[int, Field(ge=0, le=1)] = 1  # front blowout inside the steered turn, understeering: outer front lowered; 0 = defect
+    understeer_cap_freeze_flag: Annotated[int, Field(ge=0, le=1)] = 1  # capacity rule does not lower its latched cap while the understeer rule holds the target below the plan (the held wheel's slip reads its lateral share, not its friction); 0 = defect (cap lowered, then bypassed by the restore)
     front_circle_measured_flag: Annotated[int, Field(ge=0, le=1)] = 1  # braking rule: compensating front capped at its MEASURED longitudinal capacity (lateral use already in it), not that less F_y again; 0 = defect
     blown_front_hold_flag: Annotated[int, Field(ge=0, le=1)] = 1  # front blowout, driver braking, turn toward the blown side, other front at its ABS limit, yaw not above the steered reference: blown (inner) front held, not released; 0 = defect
     predump_slip_flag: Annotated[int, Field(ge=0, le=1)] = 1  # braking rule: an ABS dump of the compensating front sets its re-build ceiling only with slip above the ABS hold slip; 0 = defect (any dump)
@@ -236,6 +239,7 @@ class SedanBlowoutCompensation(Strict):
     spin_release_ramp_flag: Annotated[int, Field(ge=0, le=1)] = 1  # at the spin-front exit the front wheel is released linearly over the single-track settling time 8/a_1, not dumped at once; 0 = defect (released at once)
     ramp_refused_flag: Annotated[int, Field(ge=0, le=1)] = 1  # the spin-front release ramp (spin_release_ramp_flag) only in BUILD/HOLD: in REFUSED/ENDED the front wheel is released at once (Q_NONE); 0 = defect (ramp went on in REFUSED)
     ramp_driver_floor_flag: Annotated[int, Field(ge=0, le=1)] = 1  # the spin-front release ramp never below the driver's master pressure; 0 = defect (ramped to 0 under a braking driver)
+    rear_braking_flag: Annotated[int, Field(ge=0, le=1)] = 1  # rear blowout + braking driver: the compensating rear wheel re-built after an ABS dump to the driver's level it had reached (not to the plan); 0 = defect (the code before)
 
     @model_validator(mode="after")
     def _order(self):
