@@ -293,9 +293,12 @@ S_RAMP_P0 = S_SPIN_EXITED + 1
 S_RAMP_T = S_RAMP_P0 + 1
 S_RAMP_DUR = S_RAMP_T + 1
 S_RB_HIGH = S_RAMP_DUR + 1  # rear_braking_rule: the highest driver's pressure the rear compensating wheel reached [Pa]
+# ABS activity per wheel as the ESP sees it (spec 4.3: a hold or dump in the last 0.3 s; 1/0), written by functions/
+# esp.py before each blowout_step (blown_front_hold_flag: is the compensating front at its ABS limit)
+S_ABS_ACTIVE = S_RB_HIGH + 1  # 4 slots, fl fr rl rr
 # rear_oversteer_yaw_flag: 1 once the yaw rate exceeded the steered reference toward the blown side after the build (the
 # rear pair held, ``rear_oversteer_cap``) - the released wheel's real flat, not a false alarm (0 otherwise)
-S_OS_YAW_SEEN = S_RB_HIGH + 1
+S_OS_YAW_SEEN = S_ABS_ACTIVE + 4
 STATE_SIZE = S_OS_YAW_SEEN + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
@@ -1284,6 +1287,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     tg = int(st[S_TARGET])
     if b >= 0:
         requests[b] = Q_RELEASE
+        if p.blowout_compensation_blown_front_hold_flag > 0.5:
+            blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p)
     # (ramp_refused_flag) the ramp only while the rear compensates (BUILD/HOLD): REFUSED after the exit is a car beyond
     # the bounds rotating AWAY from the blown side (toward it the spin-front rule takes over), and the spin-front wheel's
     # pressure is a moment in that rotation's direction - the feed-forward stands down there (Q_NONE), as at once
@@ -1395,6 +1400,44 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     if p.blowout_compensation_braking_rule_flag > 0.5:
         braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref)
     return n_events
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p):
+    """The blown FRONT wheel, the inner front of a turn steered toward it, is held at its present (ABS) pressure instead
+    of released (``blown_front_hold_flag``, 0 = seeded defect = always released; findings_F.md X2, lead random 41 b512
+    #273) while: the driver brakes; the compensation runs on the other front (BUILD/HOLD/LIMITED); that front is at
+    its ABS limit (ABS active on it - a hold or dump in the last 0.3 s, spec 4.3, S_ABS_ACTIVE from functions/esp.py);
+    the steered reference yaw rate (``reference_yaw_rate``) points toward the blown side by more than the closed-loop
+    dead band (a curve toward it); and the measured yaw rate is not above that reference toward the blown side.
+
+    Why: the paper releases the blown wheel (eqs. 26-28, F_b = 0) inside a balance in which the other front takes the
+    counter-force p_w: M_z = b_f*(F_b + D - F_opp) = 0. With the driver's pressure already holding that front at its
+    lock level, ABS caps it (the arbitration gives BUILD/HOLD way to ABS): the function has no authority left on the
+    front axle, and the release is the only moment it makes - b_f*K_b*p_b/R away from the blown side, of a size set
+    by the pedal, not by the blowout. In a turn toward the blown side that moment points out of the turn. An ESP
+    uses a moment out of the turn against oversteer only; with the yaw rate at or below the steering's demand (no
+    oversteer; below it: understeer, answered by a moment INTO the turn) it takes no brake force off the inner front
+    (van Zanten, Bosch ESP Systems: 5 Years of Experience, SAE 2000-01-1633; Bosch Automotive Handbook, ESP). So the
+    sign of the yaw deviation decides: above the reference (the drag turning the car in) the release goes on as
+    before, otherwise the blown front keeps what the driver and ABS give it, as without the function. On a straight
+    road (no inner wheel) the paper's release stands (the drag is a pure disturbance; holding there cost #101 1.99 ->
+    3.31 m). Held = Q_HOLD: the function adds no build and takes nothing off; ABS keeps its hold, dump and pulsed
+    re-build from the master of the wheel (BLOWOUT_ARBITRATION row HOLD), as without the function - a flat wheel ABS had
+    dumped before the detection is re-built by it too (random 3 fl/fr-braking b64 #53: 1.2 -> 34-46 bar, 0.49 -> 1.94
+    m, none 8.36; capping the re-build at the detection's pressure fixed that but re-opened braking 5 #124 and 13 #45,
+    2.04 / 2.20 m vs none 1.34 / 2.00: not done)."""
+    if braking < 0.5 or b < 0 or b >= 2 or tg < 0 or tg >= 2 or tg == b:
+        return
+    if not (mode == BUILD or mode == HOLD or mode == LIMITED):
+        return
+    if st[S_ABS_ACTIVE + tg] < 0.5:
+        return
+    if toward_blown_side(b, r_ref) <= p.blowout_compensation_yaw_deadband_radps:
+        return  # not a turn toward the blown side
+    if toward_blown_side(b, yaw_rate) > 0.0:
+        return  # yawing toward the blown side beyond the steering's demand: the release answers it
+    requests[b] = Q_HOLD
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")

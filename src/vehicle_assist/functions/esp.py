@@ -484,6 +484,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     inlet_ok = np.array([meas.inlet_valve_fl_ok, meas.inlet_valve_fr_ok, meas.inlet_valve_rl_ok, meas.inlet_valve_rr_ok])
     blow_req = np.zeros(4, dtype=np.int64)
     p_est = wheels[:, A_P_EST].copy()
+    for i in range(4):  # ABS active per wheel (spec 4.3) for the blowout compensation (blown_front_hold_flag)
+        bst[bc.S_ABS_ACTIVE + i] = 1.0 if wheels[i, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S else 0.0
     n_events = bc.blowout_step(bst, vw_arr, v_ref_intact, 1.0 if bls else 0.0, meas.longitudinal_accel_mps2,
                                meas.yaw_rate_radps, meas.steering_angle_rad, tpms, inlet_ok, p_est, p, dt, t, m_blow,
                                events, n_events, blow_req, meas.lateral_accel_mps2, p_mc)

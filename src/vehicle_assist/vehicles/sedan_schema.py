@@ -223,6 +223,7 @@ class SedanBlowoutCompensation(Strict):
     understeer_flag: Annotated[int, Field(ge=0, le=1)] = 1  # front blowout inside the steered turn, understeering: outer front lowered; 0 = defect
     understeer_cap_freeze_flag: Annotated[int, Field(ge=0, le=1)] = 1  # capacity rule does not lower its latched cap while the understeer rule holds the target below the plan (the held wheel's slip reads its lateral share, not its friction); 0 = defect (cap lowered, then bypassed by the restore)
     front_circle_measured_flag: Annotated[int, Field(ge=0, le=1)] = 1  # braking rule: compensating front capped at its MEASURED longitudinal capacity (lateral use already in it), not that less F_y again; 0 = defect
+    blown_front_hold_flag: Annotated[int, Field(ge=0, le=1)] = 1  # front blowout, driver braking, turn toward the blown side, other front at its ABS limit, yaw not above the steered reference: blown (inner) front held, not released; 0 = defect
     predump_slip_flag: Annotated[int, Field(ge=0, le=1)] = 1  # braking rule: an ABS dump of the compensating front sets its re-build ceiling only with slip above the ABS hold slip; 0 = defect (any dump)
     braking_rule_flag: Annotated[int, Field(ge=0, le=1)] = 1  # front blowout + braking driver: one rule for the compensating front wheel and the rear pair; 0 = defect (the rules before)
     braking_share_frac: Annotated[float, Field(ge=0, le=1)] = 1.0  # share of the driver's pressure on top of the drag balance (braking rule)
