@@ -133,9 +133,10 @@ def test_58_closer_to_no_compensation(runs58):
     assert runs58["on"].metrics[METRIC] < runs58["defect"].metrics[METRIC]
 
 
-@pytest.mark.xfail(strict=True, reason="#58 remains worse than no compensation: before the detection (1.0-1.435 s) the "
-                   "TPMS-named FL is out of the ESP reference, so the car brakes at the ABS limit (rears 41-50 bar, the "
-                   "diagonally unloaded RR at 8-11 % slip) and yaws to 0.225 rad/s toward FL while the twin's reference "
-                   "rides the flat FL (30.6 vs 25.4 m/s) and ABS holds its intact wheels at 3-26 bar (findings_F.md G6)")
+@pytest.mark.xfail(strict=True, reason=(
+    "#58 remains worse than no compensation: before the detection (1.0-1.435 s) the TPMS-named FL is out of the ESP "
+    "reference, so the car brakes at the ABS limit (rears 41-50 bar, the diagonally unloaded RR at 8-11 % slip) and "
+    "yaws to 0.225 rad/s toward FL while the twin's reference rides the flat FL (30.6 vs 25.4 m/s) and ABS holds its "
+    "intact wheels at 3-26 bar (findings_F.md G6)"))
 def test_58_never_worse_than_no_compensation(runs58):
     assert runs58["on"].metrics[METRIC] <= runs58["none"].metrics[METRIC]

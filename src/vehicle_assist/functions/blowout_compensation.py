@@ -1608,7 +1608,7 @@ def rear_oversteer_cap(st, b, yaw_rate, p_est, p, r_ref=0.0, mode=-1):
     lowered one step per period (the ESP's oversteer intervention under braking: the rear axle's brake pressure is
     reduced so the rear tires get their lateral force back - van Zanten, SAE 2000-01-1633). Back inside the region the
     cap ends (ABS and the other caps again).
-    ``rear_oversteer_yaw_flag`` (0 = seeded defect = the phase plane alone): the ESP's yaw-rate oversteer criterion too -
+    ``rear_oversteer_yaw_flag`` (0 = seeded defect = the phase plane alone): the ESP's yaw-rate oversteer criterion -
     after the build (not in BUILD: the released wheel's moment is still in the yaw), the measured yaw rate beyond the
     steered reference toward the blown side by more than the dead band, the car itself turning that way: the pair is
     HELD at its lower present pressure (not re-built by ABS/HBA; lowering stays the phase plane's), and S_OS_YAW_SEEN

@@ -240,7 +240,10 @@ class SedanBlowoutCompensation(Strict):
     ramp_refused_flag: Annotated[int, Field(ge=0, le=1)] = 1  # the spin-front release ramp (spin_release_ramp_flag) only in BUILD/HOLD: in REFUSED/ENDED the front wheel is released at once (Q_NONE); 0 = defect (ramp went on in REFUSED)
     ramp_driver_floor_flag: Annotated[int, Field(ge=0, le=1)] = 1  # the spin-front release ramp never below the driver's master pressure; 0 = defect (ramped to 0 under a braking driver)
     rear_braking_flag: Annotated[int, Field(ge=0, le=1)] = 1  # rear blowout + braking driver: the compensating rear wheel re-built after an ABS dump to the driver's level it had reached (not to the plan); 0 = defect (the code before)
-    rear_oversteer_yaw_flag: Annotated[int, Field(ge=0, le=1)] = 1  # braking rule: rear pair held (not re-built) while the yaw rate exceeds the steered reference toward the blown side beyond the dead band after the build, and that yaw then confirms the detection (no yaw_implausible rejection); ESP yaw-rate oversteer criterion (van Zanten SAE 2000-01-1633); 0 = defect
+    # braking rule: rear pair held (not re-built) while the yaw rate exceeds the steered reference toward the blown
+    # side beyond the dead band after the build, and that yaw confirms the detection (no yaw_implausible rejection);
+    # ESP yaw-rate oversteer criterion (van Zanten SAE 2000-01-1633); 0 = seeded defect (the phase plane alone)
+    rear_oversteer_yaw_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
