@@ -244,12 +244,13 @@ def test_row_idle_refused_beyond_yaw_bound(params):
     """IDLE->REFUSED: at detection the yaw rate is 10 % above the bound: no plan on the opposite wheel (NONE, back
     to the driver and ABS), the flat wheel released, reason code 3; 10 % below it, or with the refusal disabled
     (defect), the compensation builds."""
-    # (rotating AWAY from the blown FL, CW -: toward it front_spin_keep_flag keeps the compensation, rows below)
-    e = Ecu(params).run(0.2).run(0.1, yaw=-1.1 * R_BOUND, **BLOWN_LF)
+    # (toward the blown FL, CCW +: at the detection refused whatever the rotation; front_spin_keep_flag keeps only a
+    # running compensation, rows below)
+    e = Ecu(params).run(0.2).run(0.1, yaw=1.1 * R_BOUND, **BLOWN_LF)
     assert e.rows[0] == ("IDLE", "REFUSED", "beyond_stable_region") and e.st[bc.S_LIMIT_CODE] == bc.LIMIT_YAW_BOUND
     assert list(e.req) == [bc.Q_RELEASE, bc.Q_NONE, bc.Q_NONE, bc.Q_NONE]
     assert Ecu(params).run(0.2).run(0.06, yaw=0.9 * R_BOUND, **BLOWN_LF).rows[0][1] == "BUILD"
-    d = Ecu(params, blowout_compensation_stability_refusal_flag=0.0).run(0.2).run(0.06, yaw=-1.1 * R_BOUND, **BLOWN_LF)
+    d = Ecu(params, blowout_compensation_stability_refusal_flag=0.0).run(0.2).run(0.06, yaw=1.1 * R_BOUND, **BLOWN_LF)
     assert d.rows[0][1] == "BUILD"
 
 

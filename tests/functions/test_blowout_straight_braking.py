@@ -8,8 +8,9 @@ same at main 2ff4871 and 399b878).
   (twin 1.295 s, compensated 1.330 s; detection 1.345 s); the compensation was REFUSED beyond_stable_region at 1.425 s
   (0.249 rad/s against the ECU's mu-0.8 bound) and both cars spun (188 / 220 deg by 5 s). The refusal took the only
   counter-moment off a car spinning toward the flat: the compensating FR is the outer front of that rotation, the
-  wheel an ESP brakes against oversteer. Fixed (``front_spin_keep_flag``, 0 = the code before): not refused while the
-  car rotates toward the blown side - 1.53 m, peak yaw 0.25 rad/s, heading -6.6 deg at 5 s; its 10 neighbours (noise
+  wheel an ESP brakes against oversteer. Fixed (``front_spin_keep_flag``, 0 = the code before): a running
+  compensation (BUILD/HOLD) is not refused while the yaw exceeds the steering reference toward the blown side (at the
+  detection the refusal stands: kept there, braking 5 #1 went 6.81 -> 14.08 m vs none 6.94) - 1.53 m, peak yaw 0.25 rad/s, heading -6.6 deg at 5 s; its 10 neighbours (noise
   seed 1/2/3, speed -/+2 km/h, mu -/+0.02, noise 0.05 rad/s, delay +0.05 s, gain -0.05) 1.23-4.56 m vs none 10.85-13.94
   m (with the refusal: 5 of 11 spun, 2 of 11 worse than the twin).
 * #106 FL 91.2 km/h mu 0.411 r650 (toward FL), follower, slow pedal (0.10 at 0.78 /s from 1.08 s), detection delay
