@@ -9,8 +9,9 @@ same at main 2ff4871 and 399b878).
   (0.249 rad/s against the ECU's mu-0.8 bound) and both cars spun (188 / 220 deg by 5 s). The refusal took the only
   counter-moment off a car spinning toward the flat: the compensating FR is the outer front of that rotation, the
   wheel an ESP brakes against oversteer. Fixed (``front_spin_keep_flag``, 0 = the code before): a running
-  compensation (BUILD/HOLD) is not refused while the yaw exceeds the steering reference toward the blown side (at the
-  detection the refusal stands: kept there, braking 5 #1 went 6.81 -> 14.08 m vs none 6.94) - 1.53 m, peak yaw 0.25 rad/s, heading -6.6 deg at 5 s; its 10 neighbours (noise
+  compensation (BUILD/HOLD) is not refused while the yaw exceeds the steering reference toward the blown side
+  (at the detection the refusal stands: kept there, braking 5 #1 went 6.81 -> 14.08 m vs none 6.94) - 1.53 m, peak yaw
+  0.25 rad/s, heading -6.6 deg at 5 s; its 10 neighbours (noise
   seed 1/2/3, speed -/+2 km/h, mu -/+0.02, noise 0.05 rad/s, delay +0.05 s, gain -0.05) 1.23-4.56 m vs none 10.85-13.94
   m (with the refusal: 5 of 11 spun, 2 of 11 worse than the twin).
 * #106 FL 91.2 km/h mu 0.411 r650 (toward FL), follower, slow pedal (0.10 at 0.78 /s from 1.08 s), detection delay
@@ -21,7 +22,8 @@ same at main 2ff4871 and 399b878).
   1.5 s (inside the 5 deg/s over-compensation dump of the feed-forward mode), the car runs wide (strict xfail below).
 
 References, independent of the function's code: the requirement (the twin is the same point without the function,
-paper 004 Fig. 4 curve 2); the heading the plant turned through (truth); Rajamani, Vehicle Dynamics and Control (2nd ed. 2012) ch. 8, |r| <= 0.85*mu*g/u, evaluated
+paper 004 Fig. 4 curve 2); the heading the plant turned through (truth); Rajamani, Vehicle Dynamics and Control (2nd
+ed. 2012) ch. 8, |r| <= 0.85*mu*g/u, evaluated
 with the point's road friction and the plant's speed (truth)."""
 from __future__ import annotations
 
@@ -158,7 +160,7 @@ def test_106_no_worse_than_without_compensation(env):
 @pytest.mark.xfail(strict=True, reason="#106 with a 0.05 s detection delay (the mechanism without the 0.4 s TPMS-named "
                    "window): FR held at the nominal-mu balance 43.6 bar at its ABS limit, yaw 2-4 deg/s below the "
                    "reference for 1.5 s: 0.917 vs none 0.234 m. A braking variant of the understeer rule gave 0.051 m "
-                   "here but 5 points worse by 0.3-1.5 m (fixed-steering curves: the over-compensation had taken back the "
+                   "here but 5 points worse by 0.3-1.5 m (fixed-steering: the over-compensation had taken back the "
                    "pre-detection heading error); tire_blowout.md 'Session g, G5'")
 def test_106_early_detection_no_worse_than_without_compensation(env):
     on = envelope_point_run(env, P106_EARLY).metrics[METRIC]

@@ -239,7 +239,9 @@ class SedanBlowoutCompensation(Strict):
     ramp_refused_flag: Annotated[int, Field(ge=0, le=1)] = 1  # the spin-front release ramp (spin_release_ramp_flag) only in BUILD/HOLD: in REFUSED/ENDED the front wheel is released at once (Q_NONE); 0 = defect (ramp went on in REFUSED)
     ramp_driver_floor_flag: Annotated[int, Field(ge=0, le=1)] = 1  # the spin-front release ramp never below the driver's master pressure; 0 = defect (ramped to 0 under a braking driver)
     rear_braking_flag: Annotated[int, Field(ge=0, le=1)] = 1  # rear blowout + braking driver: the compensating rear wheel re-built after an ABS dump to the driver's level it had reached (not to the plan); 0 = defect (the code before)
-    front_spin_keep_flag: Annotated[int, Field(ge=0, le=1)] = 1  # front blowout, the running compensation (BUILD/HOLD) beyond the stable region with the yaw above the steering reference TOWARD the blown side: not refused (the compensating front is the outer front of the rotation, the ESP oversteer brake); at the detection and away from it refused as before; 0 = defect (refused whatever the rotation)
+    # running front compensation beyond the stable region, yaw above the reference toward the blown side: not refused
+    # (the compensating front = outer front of the rotation); 0 = seeded defect (refused whatever the rotation)
+    front_spin_keep_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
