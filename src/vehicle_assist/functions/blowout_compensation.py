@@ -1263,7 +1263,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_PSI_ERR] = 0.0  # the heading toward the blown side counted again from the exit (for a new spin's exit)
             n_events = log_event(events, n_events, t, machine_id, mode, BUILD, G_SPIN_STOPPED)
             mode = BUILD
-        elif code != LIMIT_NONE and not (mode == LIMITED and st[S_LIMIT_CODE] == LIMIT_SPIN_FRONT):
+        elif (code != LIMIT_NONE and not (mode == LIMITED and st[S_LIMIT_CODE] == LIMIT_SPIN_FRONT)
+              and not front_spin_keep(b, tg, yaw_rate, p)):
             # the car has left the stable region: the feed-forward stands down (the target wheel back to the driver's
             # pressure and ABS, Q_NONE); a blown wheel confirmed by both sources stays released as in ENDED (it is flat),
             # a single-source detection is released from the latch (not confirmed)
@@ -1746,3 +1747,26 @@ def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, 
             requests[tg] = Q_RELEASE
         elif requests[tg] != Q_RELEASE:
             requests[tg] = Q_HOLD
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def front_spin_keep(b, tg, yaw_dev, p):
+    """True = no refusal of a RUNNING compensation beyond the stable region (``front_spin_keep_flag``, 0 = seeded
+    defect = refused whatever the rotation; findings_F.md G5, braking 47 #69; called from the BUILD/HOLD/LIMITED ->
+    REFUSED transition only): a FRONT blowout compensated on the other front wheel while the car's yaw rate exceeds the
+    steering reference TOWARD the blown side (``yaw_dev`` = measured - ``reference_yaw_rate``: oversteer toward the
+    flat). The compensation's moment then is the ESP's own answer to that rotation: the compensating front is the OUTER
+    front of the rotation, and an ESP answers oversteer by braking the outer front wheel (van Zanten, Bosch ESP
+    Systems: 5 Years of Experience, SAE 2000-01-1633; Bosch Automotive Handbook, ESP), the inner (blown) front unbraked
+    - the module's rear-blowout counterpart is the spin-front rule (spin_front_flag). Standing down there takes the
+    counter-moment off while it is still being built (valve time, eq. 30) against the drag that is turning the car
+    (#69: refused 80 ms after the detection, 13.58 m vs none 11.29 m, both spun; kept 1.53 m, no spin). Not at the
+    detection (IDLE/REJECTED -> REFUSED): a car already beyond the bounds when the blowout is found is in a spin the
+    feed-forward plan was not made for; keeping it there slowed the spin without stopping it and lengthened the slide
+    (braking 5 #1 6.81 -> 14.08 m, none 6.94; random 41 #407 4.00 -> 5.60, none 4.03). Rotating AWAY from the blown side
+    the compensation's moment would add to the rotation: refused as before."""
+    if p.blowout_compensation_front_spin_keep_flag < 0.5:
+        return False
+    if b < 0 or b >= 2 or tg != OPPOSITE[b]:
+        return False
+    return toward_blown_side(b, yaw_dev) > 0.0

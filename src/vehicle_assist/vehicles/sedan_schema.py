@@ -244,6 +244,9 @@ class SedanBlowoutCompensation(Strict):
     # side beyond the dead band after the build, and that yaw confirms the detection (no yaw_implausible rejection);
     # ESP yaw-rate oversteer criterion (van Zanten SAE 2000-01-1633); 0 = seeded defect (the phase plane alone)
     rear_oversteer_yaw_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # running front compensation beyond the stable region, yaw above the reference toward the blown side: not refused
+    # (the compensating front = outer front of the rotation); 0 = seeded defect (refused whatever the rotation)
+    front_spin_keep_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
