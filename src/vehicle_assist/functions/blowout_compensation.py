@@ -1417,17 +1417,24 @@ def blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p):
     lock level, ABS caps it (the arbitration gives BUILD/HOLD way to ABS): the function has no authority left on the
     front axle, and the release is the only moment it makes - b_f*K_b*p_b/R away from the blown side, of a size set
     by the pedal, not by the blowout. In a turn toward the blown side that moment points out of the turn. An ESP
-    uses a moment out of the turn against oversteer only; with the yaw rate at or below the steering's demand (no
-    oversteer; below it: understeer, answered by a moment INTO the turn) it takes no brake force off the inner front
-    (van Zanten, Bosch ESP Systems: 5 Years of Experience, SAE 2000-01-1633; Bosch Automotive Handbook, ESP). So the
+    brakes the outer front (a moment out of the turn) against oversteer and the inner rear (a moment INTO the turn)
+    against understeer (van Zanten, Bosch ESP Systems: 5 Years of Experience, SAE 2000-01-1633; Bosch Automotive
+    Handbook, ESP); derived from that, not stated there: at or below the steering's demand no brake force is taken off
+    the inner front. So the
     sign of the yaw deviation decides: above the reference (the drag turning the car in) the release goes on as
     before, otherwise the blown front keeps what the driver and ABS give it, as without the function. On a straight
     road (no inner wheel) the paper's release stands (the drag is a pure disturbance; holding there cost #101 1.99 ->
-    3.31 m). Held = Q_HOLD: the function adds no build and takes nothing off; ABS keeps its hold, dump and pulsed
-    re-build from the master of the wheel (BLOWOUT_ARBITRATION row HOLD), as without the function - a flat wheel ABS had
-    dumped before the detection is re-built by it too (random 3 fl/fr-braking b64 #53: 1.2 -> 34-46 bar, 0.49 -> 1.94
-    m, none 8.36; capping the re-build at the detection's pressure fixed that but re-opened braking 5 #124 and 13 #45,
-    2.04 / 2.20 m vs none 1.34 / 2.00: not done)."""
+    3.31 m). NOT a pressure hold (review RG, session g): a flat front the function already released to 0-1.4 bar is
+    re-applied by Q_HOLD - 0 -> 44-60 bar within 5-10 ms, the driver's master pressure (197 bar at random 37 #7)
+    through the open inlet (W_B with the USV check valve, or W_N; plant/brakes/esp_unit.py), then ABS-dumped; that
+    re-apply is the rule's benefit at #273 and, cycling with the yaw around the reference, its cost (random 37 b64 #7
+    0.096 -> 1.003 m, none 10.56; random 17 #51 0.855 -> 2.277, none 9.57); a false FL TPMS alarm in a left curve
+    is rejected up to 3.5 s later (the held healthy wheel gives the yaw no
+    release signature). Held = Q_HOLD: the function adds no build and takes nothing off; ABS keeps its hold, dump and
+    pulsed re-build from the master of the wheel (BLOWOUT_ARBITRATION row HOLD), as without the function - a flat wheel
+    ABS had dumped before the detection is re-built by it too (random 3 fl/fr-braking b64 #53: 1.2 -> 34-46 bar,
+    0.49 -> 1.94 m, none 8.36; capping the re-build at the detection's pressure fixed that but re-opened braking 5
+    #124 and 13 #45, 2.04 / 2.20 m vs none 1.34 / 2.00: not done)."""
     if braking < 0.5 or b < 0 or b >= 2 or tg < 0 or tg >= 2 or tg == b:
         return
     if not (mode == BUILD or mode == HOLD or mode == LIMITED):
