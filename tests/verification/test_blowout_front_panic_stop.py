@@ -17,7 +17,15 @@ same late-pedal front points at 60/80 km/h or mu 0.45/0.55 keep 0.5-0.6 x the tw
 References (independent of the code): the road's friction limit mu*g (UN R13-H Annex 6 asks an ABS stop for an adhesion
 utilisation of at least 0.75; the bound is half the limit, as in test_blowout_braking_driver.py) and the
 no-compensation twin. Not fixed (strict xfail): the caps are the braking rule's stability design (rear pair in its
-Dugoff linear region at the measured friction); what to change is for the owner of the braking rule."""
+Dugoff linear region at the measured friction); what to change is for the owner of the braking rule.
+
+Fixed (session g, G7, ``measured_mu_raise_flag``): the measured friction had been read at the build overshoot and the
+ABS dump after it on lagging filtered signals (0.284, then 0.246/0.202/0.176 on the recovering wheel; the road's peak
+0.453) and was only ever lowered; while the driver brakes a linear reading of the compensating front now raises it to
+the Dugoff linear-region bound 2*F_x/F_z (spec 2.3). At c20c40f + the rule: 3.07 m/s^2 (bound 2.22, none 4.86),
+0.567 m (none 0.855); flag 0: 2.09 m/s^2, 0.971 m. Can fail: with measured_mu_raise_flag = 0 the two tests of #36
+fail (negative control test_front_blowout_panic_stop_under_braked_with_the_defect); the neighbours pass either way
+(RG: above the bound at 0.5-0.6 x the twin's deceleration) - they guard against a fix that breaks them."""
 from __future__ import annotations
 
 import numpy as np
@@ -35,6 +43,9 @@ R17_36 = {"speed": 40.34745521612098, "mu": 0.386809375569746, "delay": 0.235355
           "brake.start_s": 1.9164320213559898, "brake.level_frac": 0.47602531016613836,
           "brake.rate_per_s": 12.731445072470526, "braking": "brakes", "wheel": "fr", "driver": "fixed",
           "curve": "r650"}
+RAISE0 = "vehicle.blowout_compensation.measured_mu_raise_flag=0"
+# RG's neighbours of #36 (same pedal, steering, curve): faster, or on more friction
+NEIGHBOURS = [dict(R17_36, speed=60.0), dict(R17_36, speed=80.0), dict(R17_36, mu=0.45), dict(R17_36, mu=0.55)]
 
 
 @pytest.fixture(scope="module")
@@ -59,16 +70,30 @@ def test_front_blowout_panic_stop_without_compensation_meets_the_bound(env):
     assert _decel(envelope_point_run(env, R17_36, baseline=True), t0, t0 + 1.0) >= _bound(R17_36)
 
 
-@pytest.mark.xfail(strict=True, reason="RG session g: braking rule caps (measured friction S_MU_MEAS: FL 13.3 bar, "
-                   "rear pair 7 bar) under a 166-bar panic pedal after a front blowout: 2.13 m/s^2 vs bound 2.22, "
-                   "none 4.86; not fixed")
 def test_front_blowout_panic_stop_with_compensation_meets_the_bound(env):
+    """RG session g (was a strict xfail): 2.13 m/s^2 vs the bound 2.22 with the braking rule's caps at the measured
+    friction (FL 13.3 bar, rears 7 bar); with measured_mu_raise 3.07 m/s^2."""
     t0 = R17_36["brake.start_s"] + 0.3
     assert _decel(envelope_point_run(env, R17_36), t0, t0 + 1.0) >= _bound(R17_36)
 
 
-@pytest.mark.xfail(strict=True, reason="RG session g: same point, lateral deviation 0.956 vs none 0.855 m (the "
-                   "under-braked car runs on in the curve); not fixed")
 def test_front_blowout_panic_stop_no_worse_than_without_compensation(env):
+    """RG session g (was a strict xfail): 0.956 (c20c40f: 0.971) vs none 0.855 m; with measured_mu_raise 0.567 m."""
     on = envelope_point_run(env, R17_36).metrics[METRIC]
     assert on <= envelope_point_run(env, R17_36, baseline=True).metrics[METRIC]
+
+
+def test_front_blowout_panic_stop_under_braked_with_the_defect(env):
+    """Negative control: measured_mu_raise_flag = 0 (the measured friction only ever lowered) is below the bound."""
+    t0 = R17_36["brake.start_s"] + 0.3
+    assert _decel(envelope_point_run(env, R17_36, sets=(RAISE0,)), t0, t0 + 1.0) < _bound(R17_36)
+
+
+@pytest.mark.parametrize("point", NEIGHBOURS, ids=["60kph", "80kph", "mu0.45", "mu0.55"])
+def test_front_blowout_panic_stop_neighbours(env, point):
+    """RG's neighbours (0.5-0.6 x the twin's deceleration at c20c40f, above the bound): the bound, and no worse than
+    the twin in lateral deviation."""
+    t0 = point["brake.start_s"] + 0.3
+    run = envelope_point_run(env, point)
+    assert _decel(run, t0, t0 + 1.0) >= _bound(point)
+    assert run.metrics[METRIC] <= envelope_point_run(env, point, baseline=True).metrics[METRIC]
