@@ -24,8 +24,9 @@ ABS dump after it on lagging filtered signals (0.284, then 0.246/0.202/0.176 on 
 0.453) and was only ever lowered; while the driver brakes a linear reading of the compensating front now raises it to
 the Dugoff linear-region bound 2*F_x/F_z (spec 2.3). At c20c40f + the rule: 3.07 m/s^2 (bound 2.22, none 4.86),
 0.567 m (none 0.855); flag 0: 2.09 m/s^2, 0.971 m. Can fail: with measured_mu_raise_flag = 0 in the toml the two
-tests of #36 and two unit rows (raise to the Dugoff bound, nominal cap) fail (4 failed, measured; negative controls
-test_front_blowout_panic_stop_under_braked_with_the_defect, test_raise_fails_with_the_defect); the neighbours pass either way
+tests of #36 and two unit rows (raise to the Dugoff bound, nominal cap) fail (4 failed, measured; negative
+controls test_front_blowout_panic_stop_under_braked_with_the_defect, test_raise_fails_with_the_defect); the
+neighbours pass either way
 (RG: above the bound at 0.5-0.6 x the twin's deceleration) - they guard against a fix that breaks them."""
 from __future__ import annotations
 

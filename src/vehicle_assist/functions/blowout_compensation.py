@@ -299,7 +299,7 @@ S_ABS_ACTIVE = S_RB_HIGH + 1  # 4 slots, fl fr rl rr
 # rear_oversteer_yaw_flag: 1 once the yaw rate exceeded the steered reference toward the blown side after the build (the
 # rear pair held, ``rear_oversteer_cap``) - the released wheel's real flat, not a false alarm (0 otherwise)
 S_OS_YAW_SEEN = S_ABS_ACTIVE + 4
-# measured_mu_raise_flag: time the compensating front has measurably been in its linear region while the driver brakes [s]
+# measured_mu_raise_flag: time the compensating front has measurably been linear while the driver brakes [s]
 S_LIN_S = S_OS_YAW_SEEN + 1
 STATE_SIZE = S_LIN_S + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
