@@ -186,3 +186,12 @@ def test_raise_capped_at_the_nominal_friction(params):
     bound = 2.0 * params.tires_longitudinal_stiffness_n * 0.06 / ((1.0 - 0.06) * FZ_N)
     assert bound > params.blowout_compensation_mu_estimate_frac
     assert _periods(params, st, p_est, vw, 1.0) == pytest.approx(params.blowout_compensation_mu_estimate_frac)
+
+
+def test_raise_past_the_linear_boundary_is_the_dugoff_inversion(params):
+    """q = 0.9 at the lower gain (past the H = 1 boundary, above CAP_FORCE_RATIO): Dugoff f(H) = H*(2 - H) = 0.9 gives
+    H = 1 - sqrt(0.1) and mu*F_z = 2*H*C_x*s/(1 - s) - less than 2*F_x (which would over-state the friction)."""
+    st, p_est, vw = _raise_state(params, 0.9)
+    lin = params.tires_longitudinal_stiffness_n * SLIP / (1.0 - SLIP)
+    expected = 2.0 * (1.0 - (1.0 - 0.9) ** 0.5) * lin / FZ_N
+    assert _periods(params, st, p_est, vw, 1.0) == pytest.approx(expected, rel=1e-6)

@@ -1772,7 +1772,8 @@ def measured_mu_raise(st, tg, v_ref, braking, p_est, gain, p, dt):
     H = mu*F_z*(1 - s)/(2*C_x*s) >= 1: a force carried linearly proves mu*F_z >= 2*C_x*s/(1 - s) (the capacity
     inversion at q = 1). While the driver brakes and the compensating front (no ABS activity, pressure settled: the
     window's mean within 1 bar of the estimate) shows q >= CAP_FORCE_RATIO at s > CAP_MIN_SLIP for CAP_PERSIST_S, the
-    measured friction is raised to 2*min(F_x, C_x*s/(1 - s))/F_z, F_x judged at the LOWER end of the pad-friction
+    measured friction is raised to that reading's capacity inversion (``tire_capacity_estimate``: 2*C_x*s/(1 - s) at
+    q = 1, 2*(1 - sqrt(1 - q))*C_x*s/(1 - s) below it) over F_z, F_x judged at the LOWER end of the pad-friction
     tolerance (the least force the measurement allows), at most to the ECU's nominal mu_estimate_frac (the friction it
     uses without a measurement). The braking rule's caps then rise with the force the wheel measurably carries
     linearly and stop where it leaves the linear region (Dugoff: linear up to F = mu*F_z/2, so the bound never
@@ -1784,15 +1785,14 @@ def measured_mu_raise(st, tg, v_ref, braking, p_est, gain, p, dt):
     v_s = slip_reference_mps(st, int(st[S_BLOWN]), tg, v_ref, braking)
     p_m, v_m = wheel_pressure_mean(st, tg), wheel_speed_mean(st, tg)
     wdot = wheel_accel_mps2(st, tg, dt) / p.body_wheel_radius_m
-    fx, s_tg, q, _ = tire_capacity_estimate(p_m, v_m, wdot, v_s, gain * g_lo, p)
+    _, s_tg, q, cap = tire_capacity_estimate(p_m, v_m, wdot, v_s, gain * g_lo, p)
     settled = abs(p_m - p_est[tg]) < 1.0e5
     if s_tg > CAP_MIN_SLIP and q >= CAP_FORCE_RATIO and settled and st[S_ABS_ACTIVE + tg] < 0.5:
         st[S_LIN_S] += dt
     else:
         st[S_LIN_S] = 0.0
     if st[S_LIN_S] >= CAP_PERSIST_S - 1e-9:
-        lin = p.tires_longitudinal_stiffness_n * s_tg / (1.0 - s_tg)
-        mu_lin = min(2.0 * min(fx, lin) / st[S_FZ_TARGET], p.blowout_compensation_mu_estimate_frac)
+        mu_lin = min(cap / st[S_FZ_TARGET], p.blowout_compensation_mu_estimate_frac)
         if mu_lin > st[S_MU_MEAS]:
             st[S_MU_MEAS] = mu_lin
 
