@@ -22,9 +22,9 @@ Dugoff linear region at the measured friction); what to change is for the owner 
 Fixed (session g, G7, ``measured_mu_raise_flag``): the measured friction had been read at the build overshoot and the
 ABS dump after it on lagging filtered signals (0.284, then 0.246/0.202/0.176 on the recovering wheel; the road's peak
 0.453) and was only ever lowered; while the driver brakes a linear reading of the compensating front now raises it to
-the Dugoff linear-region bound 2*F_x/F_z (spec 2.3). At c20c40f + the rule: 3.07 m/s^2 (bound 2.22, none 4.86),
-0.567 m (none 0.855); flag 0: 2.09 m/s^2, 0.971 m. Can fail: with measured_mu_raise_flag = 0 in the toml the two
-tests of #36 and two unit rows (raise to the Dugoff bound, nominal cap) fail (4 failed, measured; negative
+its Dugoff capacity inversion (spec 2.3). At c20c40f + the rule: 3.10 m/s^2 (bound 2.22, none 4.86),
+0.554 m (none 0.855); flag 0: 2.09 m/s^2, 0.971 m. Can fail: with measured_mu_raise_flag = 0 in the toml the two
+tests of #36 and three unit rows (raise to the Dugoff bound, its inversion at q = 0.9, nominal cap) fail (5; negative
 controls test_front_blowout_panic_stop_under_braked_with_the_defect, test_raise_fails_with_the_defect); the
 neighbours pass either way
 (RG: above the bound at 0.5-0.6 x the twin's deceleration) - they guard against a fix that breaks them."""
@@ -74,13 +74,13 @@ def test_front_blowout_panic_stop_without_compensation_meets_the_bound(env):
 
 def test_front_blowout_panic_stop_with_compensation_meets_the_bound(env):
     """RG session g (was a strict xfail): 2.13 m/s^2 vs the bound 2.22 with the braking rule's caps at the measured
-    friction (FL 13.3 bar, rears 7 bar); with measured_mu_raise 3.07 m/s^2."""
+    friction (FL 13.3 bar, rears 7 bar); with measured_mu_raise 3.10 m/s^2."""
     t0 = R17_36["brake.start_s"] + 0.3
     assert _decel(envelope_point_run(env, R17_36), t0, t0 + 1.0) >= _bound(R17_36)
 
 
 def test_front_blowout_panic_stop_no_worse_than_without_compensation(env):
-    """RG session g (was a strict xfail): 0.956 (c20c40f: 0.971) vs none 0.855 m; with measured_mu_raise 0.567 m."""
+    """RG session g (was a strict xfail): 0.956 (c20c40f: 0.971) vs none 0.855 m; with measured_mu_raise 0.554 m."""
     on = envelope_point_run(env, R17_36).metrics[METRIC]
     assert on <= envelope_point_run(env, R17_36, baseline=True).metrics[METRIC]
 

@@ -247,8 +247,8 @@ class SedanBlowoutCompensation(Strict):
     # running front compensation beyond the stable region, yaw above the reference toward the blown side: not refused
     # (the compensating front = outer front of the rotation); 0 = seeded defect (refused whatever the rotation)
     front_spin_keep_flag: Annotated[int, Field(ge=0, le=1)] = 1
-    # braking rule's measured friction raised to the Dugoff linear-region bound 2*F_x/F_z while the driver brakes and the
-    # compensating front measurably carries its force linearly; 0 = seeded defect (only ever lowered)
+    # braking rule's measured friction raised to the Dugoff capacity inversion of a linear reading (q >= 0.8 at the
+    # lower pad gain, no ABS) of the compensating front while the driver brakes; 0 = seeded defect (only ever lowered)
     measured_mu_raise_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
