@@ -80,11 +80,8 @@ def test_knife_edge_point_no_worse(p16):
 
 def test_knife_edge_point_worse_with_the_lateral_demand_counted_twice(env, p16):
     """Negative control: front_circle_measured_flag = 0 (the circle sqrt((mu_meas*F_z)^2 - F_y^2)) - 0.312 m vs none
-    0.225 m at the commit of the flag. With the code of that commit, i.e. also without measured_mu_raise_flag (G7,
-    session g): that later rule raises the measured friction from the wheel's linear reading under the pedal and so
-    lifts the doubly-reduced cap too (0.223 m alone), so it is switched off here to show what this flag fixed."""
-    assert _dev(env, P16, sets=["vehicle.blowout_compensation.front_circle_measured_flag=0",
-                                "vehicle.blowout_compensation.measured_mu_raise_flag=0"]) > p16["off"]
+    0.225 m at the commit of the flag."""
+    assert _dev(env, P16, sets=["vehicle.blowout_compensation.front_circle_measured_flag=0"]) > p16["off"]
 
 
 def test_knife_edge_point_braking_no_worse_than_not_braking(p16):
