@@ -148,3 +148,36 @@ def envelope_point_run(env, point: dict, baseline: bool = False, sets=()):
 def envelope_point_metric(env, point: dict, metric: str, baseline: bool = False, sets=()) -> float:
     """``metric`` of :func:`envelope_point_run`."""
     return envelope_point_run(env, point, baseline, sets).metrics[metric]
+
+
+G_MPS2 = 9.80665  # standard gravity
+# peak of the SUV's dry Burckhardt set; road.friction_mu scales it (tire_blowout envelope, mu source)
+MU_PEAK_DRY_SUV = 1.17
+
+
+def mean_decel(run, t0: float, t1: float) -> float:
+    """Mean deceleration [m/s^2] of a run between t0 and t1 (speed difference over the time difference)."""
+    import numpy as np
+    t = np.asarray(run.trace["time_s"])
+    u = np.asarray(run.trace["speed_mps"])
+    i0, i1 = int(np.argmin(abs(t - t0))), int(np.argmin(abs(t - t1)))
+    return (u[i0] - u[i1]) / (t[i1] - t[i0])
+
+
+def panic_stop_decel_bound(point: dict) -> float:
+    """The stopping bound of a panic stop after a blowout on the tire_blowout envelope: half the road's peak friction
+    times g (0.5 * mu_peak * g; spec tire_blowout 9 / issue #10 "a panic stop right after a blowout must work")."""
+    return 0.5 * MU_PEAK_DRY_SUV * point["mu"] * G_MPS2
+
+
+def fill_ecu_window(st, speeds, press) -> None:
+    """Fill the blowout compensation's wheel-speed and pressure filter window (state ``st``) with constant per-wheel
+    ``speeds`` [rad/s or m/s as the caller's rule expects] and ``press`` [Pa], as if held for a whole window."""
+    from vehicle_assist.functions import blowout_compensation as bc
+    n = bc.WS_WINDOW_N
+    for k in range(n):
+        for i in range(4):
+            st[bc.S_VW_BUF + i * n + k] = speeds[i]
+            st[bc.S_P_BUF + i * n + k] = press[i]
+    st[bc.S_BUF_LAST] = n - 1
+    st[bc.S_BUF_FILL] = n

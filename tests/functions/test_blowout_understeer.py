@@ -24,6 +24,7 @@ import pytest
 import vehicle_assist as va
 from vehicle_assist.functions import blowout_compensation as bc
 from vehicle_assist.scenarios.runner import pack_records
+from tests.support import fill_ecu_window
 
 BAR = 1.0e5
 FL, FR = 0, 1
@@ -61,15 +62,9 @@ def _state(p_fr_pa):
     st[bc.S_P_ADD] = 40.0 * BAR
     st[bc.S_FZ_TARGET] = 6000.0
     st[bc.S_CAP_LATCHED] = 1.0
-    n = bc.WS_WINDOW_N
     speeds = (1.3 * V_MPS, (1.0 - SLIP) * V_MPS, V_MPS, V_MPS)
     press = (0.0, p_fr_pa, 0.0, 0.0)
-    for k in range(n):
-        for i in range(4):
-            st[bc.S_VW_BUF + i * n + k] = speeds[i]
-            st[bc.S_P_BUF + i * n + k] = press[i]
-    st[bc.S_BUF_LAST] = n - 1
-    st[bc.S_BUF_FILL] = n
+    fill_ecu_window(st, speeds, press)
     return st, np.array(press)
 
 

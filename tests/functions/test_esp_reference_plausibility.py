@@ -21,6 +21,7 @@ import pytest
 import vehicle_assist as va
 from vehicle_assist.functions import esp
 from vehicle_assist.verification.envelope import load_envelope
+from tests.support import mean_decel as _decel
 
 G = 9.80665
 MU_PEAK_DRY = 1.17  # peak of the SUV's dry Burckhardt set; road.friction_mu scales it (tire_blowout envelope)
@@ -40,12 +41,6 @@ STRAIGHT = dict(F4, wheel="rl", curve="straight", wheel_speed_noise=0.0, brake_g
 def env():
     return load_envelope("tire_blowout")
 
-
-def _decel(run, t0, t1):
-    t = np.asarray(run.trace["time_s"])
-    u = np.asarray(run.trace["speed_mps"])
-    i0, i1 = int(np.argmin(abs(t - t0))), int(np.argmin(abs(t - t1)))
-    return (u[i0] - u[i1]) / (t[i1] - t[i0])
 
 
 RADIUS_M = {"r650": 650.0, "r1000": 1000.0, "straight": np.inf}

@@ -14,10 +14,10 @@ import pytest
 
 from vehicle_assist.verification.envelope import load_envelope
 from tests.support import envelope_point_run
+from tests.support import mean_decel as _decel
+from tests.support import panic_stop_decel_bound as _bound
 
 METRIC = "blowout_lateral_deviation_run_max_m"
-G = 9.80665
-MU_PEAK_DRY = 1.17  # peak of the SUV's dry Burckhardt set; road.friction_mu scales it (tire_blowout envelope, mu source)
 NO_SLIP_LIMIT = "vehicle.blowout_compensation.slip_limit_flag=0"
 
 # Review item 5: RR blowout at 78 km/h on mu scale 0.37 (mu 0.43) in a 650 m curve, lane-following driver, light pedal
@@ -73,15 +73,6 @@ def test_light_braking_rear_blowout_worse_without_slip_limit(p5):
     assert p5["defect"] > p5["off"]
 
 
-def _decel(run, t0, t1):
-    t = np.asarray(run.trace["time_s"])
-    u = np.asarray(run.trace["speed_mps"])
-    i0, i1 = int(np.argmin(abs(t - t0))), int(np.argmin(abs(t - t1)))
-    return (u[i0] - u[i1]) / (t[i1] - t[i0])
-
-
-def _bound(point):
-    return 0.5 * MU_PEAK_DRY * point["mu"] * G
 
 
 def test_panic_stop_after_rear_blowout_brakes_with_compensation(env):

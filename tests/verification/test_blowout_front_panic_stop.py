@@ -34,10 +34,11 @@ import numpy as np
 import pytest
 
 from tests.support import envelope_point_run
+from tests.support import fill_ecu_window
+from tests.support import mean_decel as _decel
+from tests.support import panic_stop_decel_bound as _bound
 from vehicle_assist.verification.envelope import load_envelope
 
-G = 9.80665
-MU_PEAK_DRY = 1.17  # peak of the SUV's dry Burckhardt set; road.friction_mu scales it (tire_blowout envelope, mu source)
 METRIC = "blowout_lateral_deviation_run_max_m"
 # falsifier tire_blowout random seed 17 budget 64 (batch 32), point #36
 R17_36 = {"speed": 40.34745521612098, "mu": 0.386809375569746, "delay": 0.23535598241927075,
@@ -55,15 +56,6 @@ def env():
     return load_envelope("tire_blowout")
 
 
-def _decel(run, t0, t1):
-    t = np.asarray(run.trace["time_s"])
-    u = np.asarray(run.trace["speed_mps"])
-    i0, i1 = int(np.argmin(abs(t - t0))), int(np.argmin(abs(t - t1)))
-    return (u[i0] - u[i1]) / (t[i1] - t[i0])
-
-
-def _bound(point):
-    return 0.5 * MU_PEAK_DRY * point["mu"] * G
 
 
 def test_front_blowout_panic_stop_without_compensation_meets_the_bound(env):
@@ -138,15 +130,9 @@ def _raise_state(p, q_low_gain, abs_active=False, mu_meas=0.2, slip=SLIP):
     st[bc.S_MU_MEAS] = mu_meas
     st[bc.S_F_CAP] = mu_meas * FZ_N
     st[bc.S_ABS_ACTIVE + FR] = 1.0 if abs_active else 0.0
-    n = bc.WS_WINDOW_N
     speeds = (1.3 * V_MPS, (1.0 - slip) * V_MPS, V_MPS, V_MPS)
     press = (0.0, p_fr, 0.0, 0.0)
-    for k in range(n):
-        for i in range(4):
-            st[bc.S_VW_BUF + i * n + k] = speeds[i]
-            st[bc.S_P_BUF + i * n + k] = press[i]
-    st[bc.S_BUF_LAST] = n - 1
-    st[bc.S_BUF_FILL] = n
+    fill_ecu_window(st, speeds, press)
     return st, np.array(press), np.array(speeds)
 
 
