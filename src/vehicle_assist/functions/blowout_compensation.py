@@ -1619,6 +1619,11 @@ def rear_oversteer_cap(st, b, yaw_rate, p_est, p, r_ref=0.0, mode=-1):
     yaw_os = (p.blowout_compensation_rear_oversteer_yaw_flag > 0.5
               and toward_blown_side(b, yaw_rate) > p.blowout_compensation_yaw_deadband_radps
               and toward_blown_side(b, yaw_rate + r_ref) > 0.0 and mode != BUILD)
+    if p.blowout_compensation_rear_oversteer_yaw_sense_flag > 0.5:
+        # (rear_oversteer_yaw_sense_flag) oversteer is a yaw rate beyond the reference IN THE REFERENCE'S SENSE: with
+        # the steering pointing away from the blown side beyond the dead band, a yaw toward the blown side is the car
+        # turning less than (or against) the steering - understeer of that turn, not the oversteer the criterion names
+        yaw_os = yaw_os and toward_blown_side(b, r_ref) > -p.blowout_compensation_yaw_deadband_radps
     if phase_plane_spin(b, yaw_rate, st[S_BETA_EST], st[S_BETA_DOT], p):
         low = min(p_est[2], p_est[3])
         c = st[S_REAR_OS_CAP]

@@ -244,6 +244,9 @@ class SedanBlowoutCompensation(Strict):
     # side beyond the dead band after the build, and that yaw confirms the detection (no yaw_implausible rejection);
     # ESP yaw-rate oversteer criterion (van Zanten SAE 2000-01-1633); 0 = seeded defect (the phase plane alone)
     rear_oversteer_yaw_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # rear_oversteer_yaw_flag only where the steered reference does not point away from the blown side beyond the
+    # dead band (oversteer = yaw beyond the reference in its own sense, van Zanten SAE 2000-01-1633); 0 = defect (G6)
+    rear_oversteer_yaw_sense_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
