@@ -244,6 +244,8 @@ def test_row_idle_refused_beyond_yaw_bound(params):
     """IDLE->REFUSED: at detection the yaw rate is 10 % above the bound: no plan on the opposite wheel (NONE, back
     to the driver and ABS), the flat wheel released, reason code 3; 10 % below it, or with the refusal disabled
     (defect), the compensation builds."""
+    # (toward the blown FL, CCW +: at the detection refused whatever the rotation; front_spin_keep_flag keeps only a
+    # running compensation, rows below)
     e = Ecu(params).run(0.2).run(0.1, yaw=1.1 * R_BOUND, **BLOWN_LF)
     assert e.rows[0] == ("IDLE", "REFUSED", "beyond_stable_region") and e.st[bc.S_LIMIT_CODE] == bc.LIMIT_YAW_BOUND
     assert list(e.req) == [bc.Q_RELEASE, bc.Q_NONE, bc.Q_NONE, bc.Q_NONE]
@@ -257,7 +259,7 @@ def test_rows_build_limited_rejected_refused(params):
     another wheel's blowout is found beyond it."""
     e = Ecu(params).run(0.2).run(0.055, **BLOWN_LF)
     assert e.mode == "BUILD"
-    e.run(0.005, yaw=1.1 * R_BOUND, **BLOWN_LF)
+    e.run(0.005, yaw=-1.1 * R_BOUND, **BLOWN_LF)  # away from FL (toward it: front_spin_keep_flag, below)
     assert e.rows[-1] == ("BUILD", "REFUSED", "beyond_stable_region") and e.req[1] == bc.Q_NONE
     assert int(e.st[bc.S_BLOWN]) == 0 and e.req[0] == bc.Q_RELEASE  # confirmed by both sources: the flat stays released
     e = Ecu(params).run(0.2).run(0.1, inlet=(1, 0, 1, 1), **BLOWN_LF)
@@ -274,18 +276,18 @@ def test_rows_build_limited_rejected_refused(params):
 
 
 def test_row_hold_refused_by_kinematic_sideslip(params):
-    """HOLD->REFUSED on the sideslip bound: yaw 0.2 rad/s (half the yaw bound) with no lateral acceleration is
-    beta_dot = a_y/u - r = -0.2 rad/s; the integrated estimate crosses atan(0.02*mu*g) = 0.156 rad after
+    """HOLD->REFUSED on the sideslip bound: yaw -0.2 rad/s (half the yaw bound, away from the blown FL) with no lateral
+    acceleration is beta_dot = a_y/u - r = +0.2 rad/s; the integrated estimate crosses atan(0.02*mu*g) = 0.156 rad after
     0.156/0.2 = 0.78 s (closed form), reason code 4."""
     e = Ecu(params).run(0.2).run(0.3, **BLOWN_LF)
     assert e.mode == "HOLD"
     t_cross = BETA_BOUND / 0.2
-    e.run(round(t_cross - 0.03, 3), yaw=0.2, **BLOWN_LF)
+    e.run(round(t_cross - 0.03, 3), yaw=-0.2, **BLOWN_LF)
     assert e.mode == "HOLD"
-    e.run(0.06, yaw=0.2, **BLOWN_LF)
+    e.run(0.06, yaw=-0.2, **BLOWN_LF)
     assert e.rows[-1] == ("HOLD", "REFUSED", "beyond_stable_region") and e.st[bc.S_LIMIT_CODE] == bc.LIMIT_SIDESLIP_BOUND
     # a steady curve (a_y = u*r) is no sideslip: no refusal
-    c = Ecu(params).run(0.2).run(0.3, **BLOWN_LF).run(1.5, yaw=0.2, a_y=V * 0.2, **BLOWN_LF)
+    c = Ecu(params).run(0.2).run(0.3, **BLOWN_LF).run(1.5, yaw=-0.2, a_y=V * -0.2, **BLOWN_LF)
     assert c.mode == "HOLD"
 
 
@@ -322,8 +324,12 @@ def test_rows_build_hold_limited_spin_front(params):
     d = Ecu(params, blowout_compensation_spin_front_flag=0.0).run(0.2).run(0.4, **BLOWN_RL)
     d.run(0.005, yaw=1.1 * R_BOUND, **BLOWN_RL)
     assert d.rows[-1] == ("HOLD", "REFUSED", "beyond_stable_region")
-    f = Ecu(params).run(0.2).run(0.4, **BLOWN_LF).run(0.005, yaw=1.1 * R_BOUND, **BLOWN_LF)
-    assert f.rows[-1] == ("HOLD", "REFUSED", "beyond_stable_region")  # a front blowout: refusal as before
+    f = Ecu(params).run(0.2).run(0.4, **BLOWN_LF).run(0.005, yaw=-1.1 * R_BOUND, **BLOWN_LF)
+    assert f.rows[-1] == ("HOLD", "REFUSED", "beyond_stable_region")  # a front blowout rotating away: refused
+    k = Ecu(params).run(0.2).run(0.4, **BLOWN_LF).run(0.005, yaw=1.1 * R_BOUND, **BLOWN_LF)
+    assert k.mode == "HOLD" and k.req[1] in (bc.Q_HOLD, bc.Q_PULSE)  # toward it: kept (front_spin_keep_flag)
+    k0 = Ecu(params, blowout_compensation_front_spin_keep_flag=0.0).run(0.2).run(0.4, **BLOWN_LF)
+    assert k0.run(0.005, yaw=1.1 * R_BOUND, **BLOWN_LF).rows[-1] == ("HOLD", "REFUSED", "beyond_stable_region")
 
 
 def test_rows_idle_rejected_limited_spin_front(params):

@@ -1263,7 +1263,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_PSI_ERR] = 0.0  # the heading toward the blown side counted again from the exit (for a new spin's exit)
             n_events = log_event(events, n_events, t, machine_id, mode, BUILD, G_SPIN_STOPPED)
             mode = BUILD
-        elif code != LIMIT_NONE and not (mode == LIMITED and st[S_LIMIT_CODE] == LIMIT_SPIN_FRONT):
+        elif (code != LIMIT_NONE and not (mode == LIMITED and st[S_LIMIT_CODE] == LIMIT_SPIN_FRONT)
+              and not front_spin_keep(b, tg, yaw_rate, p)):
             # the car has left the stable region: the feed-forward stands down (the target wheel back to the driver's
             # pressure and ABS, Q_NONE); a blown wheel confirmed by both sources stays released as in ENDED (it is flat),
             # a single-source detection is released from the latch (not confirmed)
@@ -1416,17 +1417,24 @@ def blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p):
     lock level, ABS caps it (the arbitration gives BUILD/HOLD way to ABS): the function has no authority left on the
     front axle, and the release is the only moment it makes - b_f*K_b*p_b/R away from the blown side, of a size set
     by the pedal, not by the blowout. In a turn toward the blown side that moment points out of the turn. An ESP
-    uses a moment out of the turn against oversteer only; with the yaw rate at or below the steering's demand (no
-    oversteer; below it: understeer, answered by a moment INTO the turn) it takes no brake force off the inner front
-    (van Zanten, Bosch ESP Systems: 5 Years of Experience, SAE 2000-01-1633; Bosch Automotive Handbook, ESP). So the
+    brakes the outer front (a moment out of the turn) against oversteer and the inner rear (a moment INTO the turn)
+    against understeer (van Zanten, Bosch ESP Systems: 5 Years of Experience, SAE 2000-01-1633; Bosch Automotive
+    Handbook, ESP); derived from that, not stated there: at or below the steering's demand no brake force is taken off
+    the inner front. So the
     sign of the yaw deviation decides: above the reference (the drag turning the car in) the release goes on as
     before, otherwise the blown front keeps what the driver and ABS give it, as without the function. On a straight
     road (no inner wheel) the paper's release stands (the drag is a pure disturbance; holding there cost #101 1.99 ->
-    3.31 m). Held = Q_HOLD: the function adds no build and takes nothing off; ABS keeps its hold, dump and pulsed
-    re-build from the master of the wheel (BLOWOUT_ARBITRATION row HOLD), as without the function - a flat wheel ABS had
-    dumped before the detection is re-built by it too (random 3 fl/fr-braking b64 #53: 1.2 -> 34-46 bar, 0.49 -> 1.94
-    m, none 8.36; capping the re-build at the detection's pressure fixed that but re-opened braking 5 #124 and 13 #45,
-    2.04 / 2.20 m vs none 1.34 / 2.00: not done)."""
+    3.31 m). NOT a pressure hold (review RG, session g): a flat front the function already released to 0-1.4 bar is
+    re-applied by Q_HOLD - 0 -> 44-60 bar within 5-10 ms, the driver's master pressure (197 bar at random 37 #7)
+    through the open inlet (W_B with the USV check valve, or W_N; plant/brakes/esp_unit.py), then ABS-dumped; that
+    re-apply is the rule's benefit at #273 and, cycling with the yaw around the reference, its cost (random 37 b64 #7
+    0.096 -> 1.003 m, none 10.56; random 17 #51 0.855 -> 2.277, none 9.57); a false FL TPMS alarm in a left curve
+    is rejected up to 3.5 s later (the held healthy wheel gives the yaw no
+    release signature). Held = Q_HOLD: the function adds no build and takes nothing off; ABS keeps its hold, dump and
+    pulsed re-build from the master of the wheel (BLOWOUT_ARBITRATION row HOLD), as without the function - a flat wheel
+    ABS had dumped before the detection is re-built by it too (random 3 fl/fr-braking b64 #53: 1.2 -> 34-46 bar,
+    0.49 -> 1.94 m, none 8.36; capping the re-build at the detection's pressure fixed that but re-opened braking 5
+    #124 and 13 #45, 2.04 / 2.20 m vs none 1.34 / 2.00: not done)."""
     if braking < 0.5 or b < 0 or b >= 2 or tg < 0 or tg >= 2 or tg == b:
         return
     if not (mode == BUILD or mode == HOLD or mode == LIMITED):
@@ -1751,3 +1759,26 @@ def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, 
             requests[tg] = Q_RELEASE
         elif requests[tg] != Q_RELEASE:
             requests[tg] = Q_HOLD
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def front_spin_keep(b, tg, yaw_dev, p):
+    """True = no refusal of a RUNNING compensation beyond the stable region (``front_spin_keep_flag``, 0 = seeded
+    defect = refused whatever the rotation; findings_F.md G5, braking 47 #69; called from the BUILD/HOLD/LIMITED ->
+    REFUSED transition only): a FRONT blowout compensated on the other front wheel while the car's yaw rate exceeds the
+    steering reference TOWARD the blown side (``yaw_dev`` = measured - ``reference_yaw_rate``: oversteer toward the
+    flat). The compensation's moment then is the ESP's own answer to that rotation: the compensating front is the OUTER
+    front of the rotation, and an ESP answers oversteer by braking the outer front wheel (van Zanten, Bosch ESP
+    Systems: 5 Years of Experience, SAE 2000-01-1633; Bosch Automotive Handbook, ESP), the inner (blown) front unbraked
+    - the module's rear-blowout counterpart is the spin-front rule (spin_front_flag). Standing down there takes the
+    counter-moment off while it is still being built (valve time, eq. 30) against the drag that is turning the car
+    (#69: refused 80 ms after the detection, 13.58 m vs none 11.29 m, both spun; kept 1.53 m, no spin). Not at the
+    detection (IDLE/REJECTED -> REFUSED): a car already beyond the bounds when the blowout is found is in a spin the
+    feed-forward plan was not made for; keeping it there slowed the spin without stopping it and lengthened the slide
+    (braking 5 #1 6.81 -> 14.08 m, none 6.94; random 41 #407 4.00 -> 5.60, none 4.03). Rotating AWAY from the blown side
+    the compensation's moment would add to the rotation: refused as before."""
+    if p.blowout_compensation_front_spin_keep_flag < 0.5:
+        return False
+    if b < 0 or b >= 2 or tg != OPPOSITE[b]:
+        return False
+    return toward_blown_side(b, yaw_dev) > 0.0

@@ -247,6 +247,9 @@ class SedanBlowoutCompensation(Strict):
     # rear_oversteer_yaw_flag only where the steered reference does not point away from the blown side beyond the
     # dead band (oversteer = yaw beyond the reference in its own sense, van Zanten SAE 2000-01-1633); 0 = defect (G6)
     rear_oversteer_yaw_sense_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # running front compensation beyond the stable region, yaw above the reference toward the blown side: not refused
+    # (the compensating front = outer front of the rotation); 0 = seeded defect (refused whatever the rotation)
+    front_spin_keep_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
