@@ -1,12 +1,13 @@
 """The rear-pair yaw hold (``rear_oversteer_yaw_flag``, functions/blowout_compensation.py ``rear_oversteer_cap``) only
-where the yaw error is an OVERSTEER of the steered turn (``rear_oversteer_yaw_sense_flag``; independent review RG2,
-session 2026-11-24 g).
+while the car itself turns toward the blown side beyond the dead band (``rear_oversteer_yaw_sense_flag``; independent
+review RG2, session 2026-11-24 g).
 
-Reference, independent of the rule's code: the ESP yaw-rate criterion the rule cites (van Zanten, SAE 2000-01-1633;
-Bosch Automotive Handbook, ESP) - oversteer is a measured yaw rate beyond the steering's reference yaw rate in the
-reference's own sense. With the steering turning the car AWAY from the blown side, a yaw toward the blown side is the
-car turning less than (or against) the steered turn: an understeer of that turn, not the rule's case. The no-compensation
-twin and the code before (seeded defect rear_oversteer_yaw_sense_flag = 0) are the system-level references."""
+Reference, independent of the rule's code: the ESP yaw-rate oversteer criterion the rule cites (van Zanten, SAE
+2000-01-1633) - a car rotating toward the blown side faster than the steering asks; a yaw rate inside the closed-loop
+dead band (1 deg/s, the toml's assumed value) is a car that is not turning. In a curve steered AWAY from the blown side
+such a car is short of the steered turn (understeer), and its yaw error points toward the blown side only because the
+reference points away. The no-compensation twin and the code before (seeded defect rear_oversteer_yaw_sense_flag = 0,
+the G6 code: any yaw > 0 toward the blown side) are the system-level references."""
 from __future__ import annotations
 
 import numpy as np
@@ -42,8 +43,9 @@ def _cap(p, blown, tg, yaw_err, r_ref, periods=5):
 @pytest.mark.parametrize("blown, tg, sign", [(FL, FR, 1.0), (FR, FL, -1.0)])
 def test_steered_away_from_the_blown_side_is_not_an_oversteer(params, blown, tg, sign):
     """Steering away from the blown side (reference 0.042 rad/s away), the car yawing 0.0045 rad/s toward it (error
-    0.046 rad/s toward the blown side): the car turns AGAINST the steered turn - no rear hold, no confirmation.
-    With the defect (sense flag 0) the rule held the pair and latched the confirmation (mirror for FR)."""
+    0.046 rad/s toward the blown side): a car that hardly turns (inside the 1 deg/s dead band), short of the steered
+    turn - no rear hold, no confirmation. With the defect (sense flag 0) the rule held the pair and latched the
+    confirmation (mirror for FR)."""
     r_ref = -0.042 * sign
     yaw_meas = 0.0045 * sign
     cap, seen = _cap(params, blown, tg, yaw_meas - r_ref, r_ref)
@@ -60,6 +62,15 @@ def test_straight_or_toward_the_blown_side_still_held(params, blown, tg, sign, r
     """The rule's own case is kept: a straight road (or a reference inside the dead band) and a turn toward the blown
     side, the yaw beyond the reference toward the blown side by 0.10 rad/s: the pair is held at its 48 bar."""
     cap, seen = _cap(params, blown, tg, 0.10 * sign, r_ref * sign)
+    assert cap == pytest.approx(48.0 * BAR, abs=1.0) and seen > 0.5
+
+
+@pytest.mark.parametrize("blown, tg, sign", [(FL, FR, 1.0), (FR, FL, -1.0)])
+def test_counter_steered_rotation_toward_the_blown_side_still_held(params, blown, tg, sign):
+    """The driver counter-steering (reference 0.04 rad/s away from the blown side), the car rotating toward the blown
+    side at 0.06 rad/s (beyond the dead band): the rotation against the steering is the rule's oversteer - held."""
+    r_ref = -0.04 * sign
+    cap, seen = _cap(params, blown, tg, 0.06 * sign - r_ref, r_ref)
     assert cap == pytest.approx(48.0 * BAR, abs=1.0) and seen > 0.5
 
 

@@ -1264,7 +1264,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             n_events = log_event(events, n_events, t, machine_id, mode, BUILD, G_SPIN_STOPPED)
             mode = BUILD
         elif (code != LIMIT_NONE and not (mode == LIMITED and st[S_LIMIT_CODE] == LIMIT_SPIN_FRONT)
-              and not front_spin_keep(b, tg, yaw_rate, p)):
+              and not front_spin_keep(b, tg, yaw_rate, p, yaw_rate_meas, code, st[S_BETA_EST])):
             # the car has left the stable region: the feed-forward stands down (the target wheel back to the driver's
             # pressure and ABS, Q_NONE); a blown wheel confirmed by both sources stays released as in ENDED (it is flat),
             # a single-source detection is released from the latch (not confirmed)
@@ -1628,10 +1628,11 @@ def rear_oversteer_cap(st, b, yaw_rate, p_est, p, r_ref=0.0, mode=-1):
               and toward_blown_side(b, yaw_rate) > p.blowout_compensation_yaw_deadband_radps
               and toward_blown_side(b, yaw_rate + r_ref) > 0.0 and mode != BUILD)
     if p.blowout_compensation_rear_oversteer_yaw_sense_flag > 0.5:
-        # (rear_oversteer_yaw_sense_flag) oversteer is a yaw rate beyond the reference IN THE REFERENCE'S SENSE: with
-        # the steering pointing away from the blown side beyond the dead band, a yaw toward the blown side is the car
-        # turning less than (or against) the steering - understeer of that turn, not the oversteer the criterion names
-        yaw_os = yaw_os and toward_blown_side(b, r_ref) > -p.blowout_compensation_yaw_deadband_radps
+        # (rear_oversteer_yaw_sense_flag) "the car itself turning toward the blown side" beyond the same dead band: in a
+        # curve steered away from the blown side a braking car that hardly turns (|r| inside the dead band) is short of
+        # the steered turn - an understeer of that turn, not a rotation toward the blown side; a car rotating toward
+        # the blown side against a counter-steering driver (r beyond the dead band) still is the rule's oversteer
+        yaw_os = yaw_os and toward_blown_side(b, yaw_rate + r_ref) > p.blowout_compensation_yaw_deadband_radps
     if phase_plane_spin(b, yaw_rate, st[S_BETA_EST], st[S_BETA_DOT], p):
         low = min(p_est[2], p_est[3])
         c = st[S_REAR_OS_CAP]
@@ -1762,7 +1763,7 @@ def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, 
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def front_spin_keep(b, tg, yaw_dev, p):
+def front_spin_keep(b, tg, yaw_dev, p, yaw_meas, code, beta_est):
     """True = no refusal of a RUNNING compensation beyond the stable region (``front_spin_keep_flag``, 0 = seeded
     defect = refused whatever the rotation; findings_F.md G5, braking 47 #69; called from the BUILD/HOLD/LIMITED ->
     REFUSED transition only): a FRONT blowout compensated on the other front wheel while the car's yaw rate exceeds the
@@ -1781,4 +1782,15 @@ def front_spin_keep(b, tg, yaw_dev, p):
         return False
     if b < 0 or b >= 2 or tg != OPPOSITE[b]:
         return False
+    if p.blowout_compensation_front_spin_keep_rotation_flag > 0.5:
+        # (front_spin_keep_rotation_flag) the spin toward the blown side as the spin-front rule defines it
+        # (spin_front_applies): the measured rotation itself toward the blown side - beyond the yaw bound a reference
+        # further out than the rotation (a yaw deviation toward the blown side while the car rotates AWAY from it) is
+        # a target the road cannot carry (Rajamani ch. 8 bounds the desired yaw rate by 0.85*mu*g/u), and the
+        # compensating front's moment would add to that rotation; and a sideslip-bound trigger only as the slide of
+        # that spin (beta pointing away from the blown side; toward it: the slide of the opposite rotation)
+        if toward_blown_side(b, yaw_meas) <= 0.0:
+            return False
+        if code == LIMIT_SIDESLIP_BOUND and toward_blown_side(b, beta_est) >= 0.0:
+            return False
     return toward_blown_side(b, yaw_dev) > 0.0

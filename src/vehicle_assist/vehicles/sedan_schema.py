@@ -244,12 +244,15 @@ class SedanBlowoutCompensation(Strict):
     # side beyond the dead band after the build, and that yaw confirms the detection (no yaw_implausible rejection);
     # ESP yaw-rate oversteer criterion (van Zanten SAE 2000-01-1633); 0 = seeded defect (the phase plane alone)
     rear_oversteer_yaw_flag: Annotated[int, Field(ge=0, le=1)] = 1
-    # rear_oversteer_yaw_flag only where the steered reference does not point away from the blown side beyond the
-    # dead band (oversteer = yaw beyond the reference in its own sense, van Zanten SAE 2000-01-1633); 0 = defect (G6)
+    # rear_oversteer_yaw_flag only while the measured yaw rate itself points toward the blown side by more than the
+    # dead band (a car turning inside the dead band is not turning toward it); 0 = defect (G6: any yaw > 0)
     rear_oversteer_yaw_sense_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # running front compensation beyond the stable region, yaw above the reference toward the blown side: not refused
     # (the compensating front = outer front of the rotation); 0 = seeded defect (refused whatever the rotation)
     front_spin_keep_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # front_spin_keep_flag only for the spin toward the blown side as spin_front_applies defines it (measured rotation
+    # toward it; a sideslip trigger only with beta away from it); 0 = defect (the yaw deviation alone, G5)
+    front_spin_keep_rotation_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):

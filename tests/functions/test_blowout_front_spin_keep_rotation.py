@@ -1,0 +1,111 @@
+"""``front_spin_keep_flag`` (session g, G5) keeps a running FRONT compensation beyond the stable region only in the spin
+TOWARD the blown side (``front_spin_keep_rotation_flag``; independent review RG2, session 2026-11-24 g).
+
+G5's rule decided on the yaw DEVIATION from the steering reference alone. References, independent of the rule's code:
+Rajamani, Vehicle Dynamics and Control (2nd ed. 2012) ch. 8 - the desired yaw rate is bounded by 0.85*mu*g/u (the bound
+the refusal uses), so beyond it a reference further out than the measured rotation is no target the road carries; the
+moment of the compensating front (FR braked for a blown FL: clockwise) adds to a clockwise rotation (the rule's own text:
+"rotating AWAY from the blown side the compensation's moment would add to the rotation: refused as before"); the sign
+kinematics of a spin (heading turning past the velocity: beta points away from the rotation - spin_front_applies,
+independent review V). Closed forms: beta_dot = a_y/u - r integrated from the detection."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import vehicle_assist as va
+from vehicle_assist.functions import blowout_compensation as bc
+from vehicle_assist.scenarios.runner import pack_records
+
+V = 60.0 / 3.6
+FAST = 1.5 * V
+R_BOUND = 0.85 * 0.8 * 9.81 / V  # Rajamani's bound at the ECU's mu 0.8: 0.400 rad/s at 60 km/h
+BETA_BOUND = np.arctan(0.02 * 0.8 * 9.81)  # 0.156 rad
+BLOWN_LF = dict(vw=(FAST, V, V, V), tpms=1.0)  # both sources: no yaw-plausibility rejection
+
+
+@pytest.fixture(scope="module")
+def params():
+    return pack_records([va.load_scenario("blowout_lf_60kph_paper").vehicle.flat()])[0]
+
+
+class Ecu:
+    """reference_step + blowout_step every 5 ms on given measurements, with the steering angle; keeps the rows."""
+
+    def __init__(self, p, **changes):
+        self.p = p.copy()
+        for k, v in changes.items():
+            setattr(self.p, k, v)
+        self.st = bc.initial_state()
+        self.t = 0.0
+        self.events = np.zeros((64, 5))
+        self.n = 0
+        self.req = np.zeros(4, dtype=np.int64)
+        self.rows = []
+
+    def run(self, s, vw=(V, V, V, V), tpms=0.0, yaw=0.0, steer=0.0, a_y=0.0):
+        dt = 0.005
+        for _ in range(int(round(s / dt))):
+            v_ref = bc.reference_step(self.st, np.array(vw, float), 0.0, tpms, dt, self.p)
+            n0 = self.n
+            self.n = bc.blowout_step(self.st, np.array(vw, float), v_ref, 0.0, 0.0, yaw, steer, tpms,
+                                     np.ones(4), np.zeros(4), self.p, dt, self.t, 6, self.events, self.n, self.req,
+                                     a_y, 0.0)
+            for k in range(n0, self.n):
+                _, _, f, to, g = self.events[k]
+                self.rows.append((bc.MODES[int(f)], bc.MODES[int(to)], bc.REASONS[int(g)]))
+            self.t += dt
+        return self
+
+    @property
+    def mode(self):
+        return bc.MODES[int(self.st[bc.S_MODE])]
+
+
+def _steer_for(p, r_ref):
+    """Road-wheel angle whose steady-state reference yaw rate at V is ``r_ref`` (reference_yaw_rate is linear in it)."""
+    return r_ref / bc.reference_yaw_rate(1.0, V, p)
+
+
+def _hold(p, flag=None):
+    """HOLD after a two-source FL detection; ``flag`` None = the shipped toml value, else front_spin_keep_rotation_flag."""
+    changes = {} if flag is None else {"blowout_compensation_front_spin_keep_rotation_flag": flag}
+    e = Ecu(p, **changes).run(0.2).run(0.4, **BLOWN_LF)
+    assert e.mode == "HOLD"
+    return e
+
+
+def test_rotating_away_beyond_the_bound_with_the_reference_further_out_is_refused(params):
+    """FL blown, the driver steering right for -1.3 x the bound (-0.52 rad/s), the car rotating right at -1.1 x the
+    bound (beyond it, AWAY from FL): the deviation +0.08 rad/s points toward FL, but the rotation does not - the FR's
+    clockwise moment would add to it. Refused (FR back to the driver and ABS); with the defect (flag 0) kept."""
+    steer = _steer_for(params, -1.3 * R_BOUND)
+    assert bc.reference_yaw_rate(steer, V, params) == pytest.approx(-1.3 * R_BOUND, rel=1e-9)
+    e = _hold(params).run(0.005, yaw=-1.1 * R_BOUND, steer=steer, **BLOWN_LF)
+    assert e.rows[-1] == ("HOLD", "REFUSED", "beyond_stable_region") and e.req[1] == bc.Q_NONE
+    d = _hold(params, 0.0).run(0.005, yaw=-1.1 * R_BOUND, steer=steer, **BLOWN_LF)
+    assert d.mode == "HOLD", d.rows
+
+
+def test_rotating_toward_the_blown_side_still_kept(params):
+    """G5's case is kept: straight steering, the car rotating toward FL at 1.1 x the bound - no refusal."""
+    e = _hold(params).run(0.005, yaw=1.1 * R_BOUND, **BLOWN_LF)
+    assert e.mode == "HOLD" and e.req[1] in (bc.Q_HOLD, bc.Q_PULSE)
+
+
+def test_sideslip_of_the_opposite_rotation_is_refused(params):
+    """Sideslip-bound trigger: yaw +0.2 rad/s (toward FL, half the yaw bound, deviation toward FL) with a_y = u*0.4:
+    beta_dot = a_y/u - r = +0.2 rad/s, beta crosses +0.156 rad (TOWARD FL: the slide of the opposite rotation) after
+    0.78 s (closed form). Refused on the sideslip bound; with the defect kept."""
+    t_cross = BETA_BOUND / 0.2
+    e = _hold(params).run(round(t_cross + 0.03, 3), yaw=0.2, a_y=V * 0.4, **BLOWN_LF)
+    assert ("HOLD", "REFUSED", "beyond_stable_region") in e.rows and e.st[bc.S_LIMIT_CODE] == bc.LIMIT_SIDESLIP_BOUND
+    d = _hold(params, 0.0).run(round(t_cross + 0.03, 3), yaw=0.2, a_y=V * 0.4, **BLOWN_LF)
+    assert d.mode == "HOLD", d.rows
+
+
+def test_sideslip_of_the_spin_toward_the_blown_side_still_kept(params):
+    """The slide of the spin toward FL (a_y = 0: beta_dot = -0.2 rad/s, beta away from FL) is G5's case: kept."""
+    t_cross = BETA_BOUND / 0.2
+    e = _hold(params).run(round(t_cross + 0.03, 3), yaw=0.2, **BLOWN_LF)
+    assert e.mode == "HOLD", e.rows
