@@ -4,8 +4,8 @@ TOWARD the blown side (``front_spin_keep_rotation_flag``; independent review RG2
 G5's rule decided on the yaw DEVIATION from the steering reference alone. References, independent of the rule's code:
 Rajamani, Vehicle Dynamics and Control (2nd ed. 2012) ch. 8 - the desired yaw rate is bounded by 0.85*mu*g/u (the bound
 the refusal uses), so beyond it a reference further out than the measured rotation is no target the road carries; the
-moment of the compensating front (FR braked for a blown FL: clockwise) adds to a clockwise rotation (the rule's own text:
-"rotating AWAY from the blown side the compensation's moment would add to the rotation: refused as before"); the sign
+moment of the compensating front (FR braked for a blown FL: clockwise) adds to a clockwise rotation (the rule's own
+text: "rotating AWAY from the blown side the compensation's moment would add to the rotation: refused as before"); the sign
 kinematics of a spin (heading turning past the velocity: beta points away from the rotation - spin_front_applies,
 independent review V). Closed forms: beta_dot = a_y/u - r integrated from the detection."""
 from __future__ import annotations
@@ -68,7 +68,8 @@ def _steer_for(p, r_ref):
 
 
 def _hold(p, flag=None):
-    """HOLD after a two-source FL detection; ``flag`` None = the shipped toml value, else front_spin_keep_rotation_flag."""
+    """HOLD after a two-source FL detection; ``flag`` None = the shipped toml value, else
+    front_spin_keep_rotation_flag."""
     changes = {} if flag is None else {"blowout_compensation_front_spin_keep_rotation_flag": flag}
     e = Ecu(p, **changes).run(0.2).run(0.4, **BLOWN_LF)
     assert e.mode == "HOLD"
@@ -134,7 +135,8 @@ def runs32():
 @pytest.mark.xfail(strict=True, reason=(
     "random 7 b64 braking FL/FR #32 (FL 107 km/h mu 0.43, 650 m curve toward FL, fixed steering, slow pedal): "
     "beyond the stable region 0.12 s after the detection (yaw 0.267 vs 0.265 rad/s), kept by front_spin_keep_flag "
-    "(FR 25-38 bar over 1.5-2.5 s) the spin is slowed (heading 134 vs 173 deg at 5 s) but never arrested and the car slides farther: "
+    "(FR 25-38 bar over 1.5-2.5 s) the spin is slowed (heading 134 vs 173 deg at 5 s) but never arrested and the car "
+    "slides farther: "
     "10.098 m vs 5.431 refused (the code before) and 4.414 without compensation; 7 of 9 neighbours worse than refused "
     "by 0.4-5.6 m - the detection-time case G5 excluded (braking 5 #1), here 0.12 s later"))
 def test_32_kept_compensation_no_worse_than_refused(runs32):
