@@ -5,9 +5,9 @@ G5's rule decided on the yaw DEVIATION from the steering reference alone. Refere
 Rajamani, Vehicle Dynamics and Control (2nd ed. 2012) ch. 8 - the desired yaw rate is bounded by 0.85*mu*g/u (the bound
 the refusal uses), so beyond it a reference further out than the measured rotation is no target the road carries; the
 moment of the compensating front (FR braked for a blown FL: clockwise) adds to a clockwise rotation (the rule's own
-text: "rotating AWAY from the blown side the compensation's moment would add to the rotation: refused as before"); the sign
-kinematics of a spin (heading turning past the velocity: beta points away from the rotation - spin_front_applies,
-independent review V). Closed forms: beta_dot = a_y/u - r integrated from the detection."""
+text: "rotating AWAY from the blown side the compensation's moment would add to the rotation: refused as before");
+the sign kinematics of a spin (heading turning past the velocity: beta points away from the rotation -
+spin_front_applies, independent review V). Closed forms: beta_dot = a_y/u - r integrated from the detection."""
 from __future__ import annotations
 
 import numpy as np
