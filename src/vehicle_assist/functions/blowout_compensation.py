@@ -299,7 +299,11 @@ S_ABS_ACTIVE = S_RB_HIGH + 1  # 4 slots, fl fr rl rr
 # rear_oversteer_yaw_flag: 1 once the yaw rate exceeded the steered reference toward the blown side after the build (the
 # rear pair held, ``rear_oversteer_cap``) - the released wheel's real flat, not a false alarm (0 otherwise)
 S_OS_YAW_SEEN = S_ABS_ACTIVE + 4
-STATE_SIZE = S_OS_YAW_SEEN + 1
+# front_spin_keep_arrest_flag: time [s] a running front compensation has been kept beyond the stable region in HOLD
+# (front_spin_keep) and the highest yaw rate toward the blown side seen while kept
+S_KEEP_S = S_OS_YAW_SEEN + 1
+S_KEEP_PEAK = S_KEEP_S + 1
+STATE_SIZE = S_KEEP_PEAK + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -1127,6 +1131,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_PSI_ERR] = 0.0
             st[S_SPIN_EXITED] = 0.0
             st[S_OS_YAW_SEEN] = 0.0
+            st[S_KEEP_S] = 0.0
+            st[S_KEEP_PEAK] = 0.0
             st[S_BETA_OWN] = 0.0  # the model of the function's own yaw moment starts at the detection (yaw_net_flag)
             st[S_R_OWN] = 0.0
             st[S_OVERSPEED_S] = 0.0
@@ -1203,6 +1209,20 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         code = unstable_code(yaw_rate_meas, st[S_BETA_EST], v_ref, p)
         # spin-front trigger (phase_plane_flag): the mu-0.8 bounds or the friction-free sideslip phase plane
         spin = code != LIMIT_NONE or phase_plane_unstable(st[S_BETA_EST], b_dot, p)
+        keep = code != LIMIT_NONE and front_spin_keep(b, tg, yaw_rate, p, yaw_rate_meas, code, st[S_BETA_EST])
+        if keep and p.blowout_compensation_front_spin_keep_arrest_flag > 0.5:
+            # (front_spin_keep_arrest_flag) after the build, one time constant of the yaw mode (a quarter of its 2 %
+            # settling time) for the counter-moment to act; a rotation toward the blown side still reaching new highs
+            # after it is not being arrested: refused as before
+            r_tw = toward_blown_side(b, yaw_rate_meas)
+            if mode != BUILD:
+                st[S_KEEP_S] += dt
+            if st[S_KEEP_S] > 0.25 * settling_time_s(v_ref, p) and r_tw > st[S_KEEP_PEAK]:
+                keep = False
+            st[S_KEEP_PEAK] = max(st[S_KEEP_PEAK], r_tw)
+        elif not keep:
+            st[S_KEEP_S] = 0.0
+            st[S_KEEP_PEAK] = 0.0
         spin_over = False
         if mode == LIMITED and st[S_LIMIT_CODE] == LIMIT_SPIN_FRONT:
             spin_over = spin_stopped(st, b, yaw_rate, code, b_dot, v_ref, inlet_ok, dt, p)
@@ -1264,7 +1284,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             n_events = log_event(events, n_events, t, machine_id, mode, BUILD, G_SPIN_STOPPED)
             mode = BUILD
         elif (code != LIMIT_NONE and not (mode == LIMITED and st[S_LIMIT_CODE] == LIMIT_SPIN_FRONT)
-              and not front_spin_keep(b, tg, yaw_rate, p, yaw_rate_meas, code, st[S_BETA_EST])):
+              and not keep):
             # the car has left the stable region: the feed-forward stands down (the target wheel back to the driver's
             # pressure and ABS, Q_NONE); a blown wheel confirmed by both sources stays released as in ENDED (it is flat),
             # a single-source detection is released from the latch (not confirmed)

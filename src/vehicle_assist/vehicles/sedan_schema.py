@@ -253,6 +253,9 @@ class SedanBlowoutCompensation(Strict):
     # front_spin_keep_flag only for the spin toward the blown side as spin_front_applies defines it (measured rotation
     # toward it; a sideslip trigger only with beta away from it); 0 = defect (the yaw deviation alone, G5)
     front_spin_keep_rotation_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # front_spin_keep_flag only while the spin is being arrested: after the build and one yaw-mode time constant a yaw
+    # toward the blown side still reaching new highs is refused; 0 = defect (kept whatever the rotation does, G5)
+    front_spin_keep_arrest_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
