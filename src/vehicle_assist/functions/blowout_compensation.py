@@ -299,9 +299,11 @@ S_ABS_ACTIVE = S_RB_HIGH + 1  # 4 slots, fl fr rl rr
 # rear_oversteer_yaw_flag: 1 once the yaw rate exceeded the steered reference toward the blown side after the build (the
 # rear pair held, ``rear_oversteer_cap``) - the released wheel's real flat, not a false alarm (0 otherwise)
 S_OS_YAW_SEEN = S_ABS_ACTIVE + 4
+# measured_mu_raise_flag: time the compensating front has measurably been linear while the driver brakes [s]
+S_LIN_S = S_OS_YAW_SEEN + 1
 # front_spin_keep_arrest_flag: time [s] a running front compensation has been kept beyond the stable region in HOLD
 # (front_spin_keep) and the highest yaw rate toward the blown side seen while kept
-S_KEEP_S = S_OS_YAW_SEEN + 1
+S_KEEP_S = S_LIN_S + 1
 S_KEEP_PEAK = S_KEEP_S + 1
 STATE_SIZE = S_KEEP_PEAK + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
@@ -1780,6 +1782,45 @@ def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, 
             requests[tg] = Q_RELEASE
         elif requests[tg] != Q_RELEASE:
             requests[tg] = Q_HOLD
+    if p.blowout_compensation_measured_mu_raise_flag > 0.5:
+        measured_mu_raise(st, tg, v_ref, braking, p_est, gain, p, dt)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def measured_mu_raise(st, tg, v_ref, braking, p_est, gain, p, dt):
+    """The braking rule's measured friction S_MU_MEAS raised by a linear reading (``measured_mu_raise_flag``, 0 =
+    seeded defect = only ever lowered; findings_F.md RG/G7, random 17 #36). S_MU_MEAS is the lowest capacity read while
+    the compensating front was out of its linear region before the pedal - a build overshoot and the ABS dump after it,
+    where the filtered pressure and slip lag the wheel (random 17 #36: 0.284 at the overshoot, then 0.246/0.202/0.176 on
+    the recovering wheel; the road's peak 0.453): the wheel's present force on a lagging slip, not its limit. The
+    braking rule then held the front at mu_meas*F_z (13.3 bar) and the rear pair in its linear region at mu_meas
+    (7 bar) under a 166-bar panic pedal, no wheel near ABS. A tire in the Dugoff linear region (f(H) = 1, spec 2.3) has
+    H = mu*F_z*(1 - s)/(2*C_x*s) >= 1: a force carried linearly proves mu*F_z >= 2*C_x*s/(1 - s) (the capacity
+    inversion at q = 1). While the driver brakes and the compensating front (no ABS activity, pressure settled: the
+    window's mean within 1 bar of the estimate) shows q >= CAP_FORCE_RATIO at s > CAP_MIN_SLIP for CAP_PERSIST_S, the
+    measured friction is raised to that reading's capacity inversion (``tire_capacity_estimate``: 2*C_x*s/(1 - s) at
+    q = 1, 2*(1 - sqrt(1 - q))*C_x*s/(1 - s) below it) over F_z, F_x judged at the LOWER end of the pad-friction
+    tolerance (the least force the measurement allows), at most to the ECU's nominal mu_estimate_frac (the friction it
+    uses without a measurement). The braking rule's caps then rise with the force the wheel measurably carries
+    linearly and stop where it leaves the linear region (Dugoff: linear up to F = mu*F_z/2, so the bound never
+    exceeds the road's friction); never lowered here (the lowering stays the capacity rule's, without the pedal)."""
+    if braking < 0.5 or tg >= 2 or st[S_MU_MEAS] <= 0.0 or st[S_FZ_TARGET] <= 1.0:
+        st[S_LIN_S] = 0.0
+        return
+    g_lo = 1.0 - p.blowout_compensation_brake_gain_tolerance_frac
+    v_s = slip_reference_mps(st, int(st[S_BLOWN]), tg, v_ref, braking)
+    p_m, v_m = wheel_pressure_mean(st, tg), wheel_speed_mean(st, tg)
+    wdot = wheel_accel_mps2(st, tg, dt) / p.body_wheel_radius_m
+    _, s_tg, q, cap = tire_capacity_estimate(p_m, v_m, wdot, v_s, gain * g_lo, p)
+    settled = abs(p_m - p_est[tg]) < 1.0e5
+    if s_tg > CAP_MIN_SLIP and q >= CAP_FORCE_RATIO and settled and st[S_ABS_ACTIVE + tg] < 0.5:
+        st[S_LIN_S] += dt
+    else:
+        st[S_LIN_S] = 0.0
+    if st[S_LIN_S] >= CAP_PERSIST_S - 1e-9:
+        mu_lin = min(cap / st[S_FZ_TARGET], p.blowout_compensation_mu_estimate_frac)
+        if mu_lin > st[S_MU_MEAS]:
+            st[S_MU_MEAS] = mu_lin
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")

@@ -256,6 +256,9 @@ class SedanBlowoutCompensation(Strict):
     # front_spin_keep_flag only while the spin is being arrested: after the build and one yaw-mode time constant a yaw
     # toward the blown side still reaching new highs is refused; 0 = defect (kept whatever the rotation does, G5)
     front_spin_keep_arrest_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # braking rule's measured friction raised to the Dugoff capacity inversion of a linear reading (q >= 0.8 at the
+    # lower pad gain, no ABS) of the compensating front while the driver brakes; 0 = seeded defect (only ever lowered)
+    measured_mu_raise_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
