@@ -138,14 +138,15 @@ def _with_flag(p, flag):
 ])
 def test_row_rotation_sign_decides(params, blown, yaw, keep):
     tg = bc.OPPOSITE[blown]
-    assert bc.front_spin_keep(blown, tg, yaw, _with_flag(params, 1)) == keep
-    assert not bc.front_spin_keep(blown, tg, yaw, _with_flag(params, 0))
+    # (the measured rotation = the deviation here: a straight steering reference; front_spin_keep_rotation_flag)
+    assert bc.front_spin_keep(blown, tg, yaw, _with_flag(params, 1), yaw, bc.LIMIT_YAW_BOUND, 0.0) == keep
+    assert not bc.front_spin_keep(blown, tg, yaw, _with_flag(params, 0), yaw, bc.LIMIT_YAW_BOUND, 0.0)
 
 
 def test_row_only_with_the_opposite_front_compensating(params):
     """A front blowout whose target is not the other front (the substitute rear of a stuck inlet): refused as before."""
-    assert not bc.front_spin_keep(0, 3, +0.3, _with_flag(params, 1))
-    assert not bc.front_spin_keep(0, -1, +0.3, _with_flag(params, 1))
+    assert not bc.front_spin_keep(0, 3, +0.3, _with_flag(params, 1), +0.3, bc.LIMIT_YAW_BOUND, 0.0)
+    assert not bc.front_spin_keep(0, -1, +0.3, _with_flag(params, 1), +0.3, bc.LIMIT_YAW_BOUND, 0.0)
 
 
 @pytest.mark.xfail(strict=True, reason="braking 47 #106: the FL release with FR at its ABS limit under the driver's "

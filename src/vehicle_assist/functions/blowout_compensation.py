@@ -301,7 +301,11 @@ S_ABS_ACTIVE = S_RB_HIGH + 1  # 4 slots, fl fr rl rr
 S_OS_YAW_SEEN = S_ABS_ACTIVE + 4
 # measured_mu_raise_flag: time the compensating front has measurably been linear while the driver brakes [s]
 S_LIN_S = S_OS_YAW_SEEN + 1
-STATE_SIZE = S_LIN_S + 1
+# front_spin_keep_arrest_flag: time [s] a running front compensation has been kept beyond the stable region in HOLD
+# (front_spin_keep) and the highest yaw rate toward the blown side seen while kept
+S_KEEP_S = S_LIN_S + 1
+S_KEEP_PEAK = S_KEEP_S + 1
+STATE_SIZE = S_KEEP_PEAK + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -1129,6 +1133,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_PSI_ERR] = 0.0
             st[S_SPIN_EXITED] = 0.0
             st[S_OS_YAW_SEEN] = 0.0
+            st[S_KEEP_S] = 0.0
+            st[S_KEEP_PEAK] = 0.0
             st[S_BETA_OWN] = 0.0  # the model of the function's own yaw moment starts at the detection (yaw_net_flag)
             st[S_R_OWN] = 0.0
             st[S_OVERSPEED_S] = 0.0
@@ -1205,6 +1211,20 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         code = unstable_code(yaw_rate_meas, st[S_BETA_EST], v_ref, p)
         # spin-front trigger (phase_plane_flag): the mu-0.8 bounds or the friction-free sideslip phase plane
         spin = code != LIMIT_NONE or phase_plane_unstable(st[S_BETA_EST], b_dot, p)
+        keep = code != LIMIT_NONE and front_spin_keep(b, tg, yaw_rate, p, yaw_rate_meas, code, st[S_BETA_EST])
+        if keep and p.blowout_compensation_front_spin_keep_arrest_flag > 0.5:
+            # (front_spin_keep_arrest_flag) after the build, one time constant of the yaw mode (a quarter of its 2 %
+            # settling time) for the counter-moment to act; a rotation toward the blown side still reaching new highs
+            # after it is not being arrested: refused as before
+            r_tw = toward_blown_side(b, yaw_rate_meas)
+            if mode != BUILD:
+                st[S_KEEP_S] += dt
+            if st[S_KEEP_S] > 0.25 * settling_time_s(v_ref, p) and r_tw > st[S_KEEP_PEAK]:
+                keep = False
+            st[S_KEEP_PEAK] = max(st[S_KEEP_PEAK], r_tw)
+        elif not keep:
+            st[S_KEEP_S] = 0.0
+            st[S_KEEP_PEAK] = 0.0
         spin_over = False
         if mode == LIMITED and st[S_LIMIT_CODE] == LIMIT_SPIN_FRONT:
             spin_over = spin_stopped(st, b, yaw_rate, code, b_dot, v_ref, inlet_ok, dt, p)
@@ -1266,7 +1286,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             n_events = log_event(events, n_events, t, machine_id, mode, BUILD, G_SPIN_STOPPED)
             mode = BUILD
         elif (code != LIMIT_NONE and not (mode == LIMITED and st[S_LIMIT_CODE] == LIMIT_SPIN_FRONT)
-              and not front_spin_keep(b, tg, yaw_rate, p)):
+              and not keep):
             # the car has left the stable region: the feed-forward stands down (the target wheel back to the driver's
             # pressure and ABS, Q_NONE); a blown wheel confirmed by both sources stays released as in ENDED (it is flat),
             # a single-source detection is released from the latch (not confirmed)
@@ -1629,6 +1649,12 @@ def rear_oversteer_cap(st, b, yaw_rate, p_est, p, r_ref=0.0, mode=-1):
     yaw_os = (p.blowout_compensation_rear_oversteer_yaw_flag > 0.5
               and toward_blown_side(b, yaw_rate) > p.blowout_compensation_yaw_deadband_radps
               and toward_blown_side(b, yaw_rate + r_ref) > 0.0 and mode != BUILD)
+    if p.blowout_compensation_rear_oversteer_yaw_sense_flag > 0.5:
+        # (rear_oversteer_yaw_sense_flag) "the car itself turning toward the blown side" beyond the same dead band: in a
+        # curve steered away from the blown side a braking car that hardly turns (|r| inside the dead band) is short of
+        # the steered turn - an understeer of that turn, not a rotation toward the blown side; a car rotating toward
+        # the blown side against a counter-steering driver (r beyond the dead band) still is the rule's oversteer
+        yaw_os = yaw_os and toward_blown_side(b, yaw_rate + r_ref) > p.blowout_compensation_yaw_deadband_radps
     if phase_plane_spin(b, yaw_rate, st[S_BETA_EST], st[S_BETA_DOT], p):
         low = min(p_est[2], p_est[3])
         c = st[S_REAR_OS_CAP]
@@ -1798,7 +1824,7 @@ def measured_mu_raise(st, tg, v_ref, braking, p_est, gain, p, dt):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def front_spin_keep(b, tg, yaw_dev, p):
+def front_spin_keep(b, tg, yaw_dev, p, yaw_meas, code, beta_est):
     """True = no refusal of a RUNNING compensation beyond the stable region (``front_spin_keep_flag``, 0 = seeded
     defect = refused whatever the rotation; findings_F.md G5, braking 47 #69; called from the BUILD/HOLD/LIMITED ->
     REFUSED transition only): a FRONT blowout compensated on the other front wheel while the car's yaw rate exceeds the
@@ -1817,4 +1843,15 @@ def front_spin_keep(b, tg, yaw_dev, p):
         return False
     if b < 0 or b >= 2 or tg != OPPOSITE[b]:
         return False
+    if p.blowout_compensation_front_spin_keep_rotation_flag > 0.5:
+        # (front_spin_keep_rotation_flag) the spin toward the blown side as the spin-front rule defines it
+        # (spin_front_applies): the measured rotation itself toward the blown side - beyond the yaw bound a reference
+        # further out than the rotation (a yaw deviation toward the blown side while the car rotates AWAY from it) is
+        # a target the road cannot carry (Rajamani ch. 8 bounds the desired yaw rate by 0.85*mu*g/u), and the
+        # compensating front's moment would add to that rotation; and a sideslip-bound trigger only as the slide of
+        # that spin (beta pointing away from the blown side; toward it: the slide of the opposite rotation)
+        if toward_blown_side(b, yaw_meas) <= 0.0:
+            return False
+        if code == LIMIT_SIDESLIP_BOUND and toward_blown_side(b, beta_est) >= 0.0:
+            return False
     return toward_blown_side(b, yaw_dev) > 0.0

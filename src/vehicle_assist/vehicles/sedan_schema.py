@@ -244,9 +244,18 @@ class SedanBlowoutCompensation(Strict):
     # side beyond the dead band after the build, and that yaw confirms the detection (no yaw_implausible rejection);
     # ESP yaw-rate oversteer criterion (van Zanten SAE 2000-01-1633); 0 = seeded defect (the phase plane alone)
     rear_oversteer_yaw_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # rear_oversteer_yaw_flag only while the measured yaw rate itself points toward the blown side by more than the
+    # dead band (a car turning inside the dead band is not turning toward it); 0 = defect (G6: any yaw > 0)
+    rear_oversteer_yaw_sense_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # running front compensation beyond the stable region, yaw above the reference toward the blown side: not refused
     # (the compensating front = outer front of the rotation); 0 = seeded defect (refused whatever the rotation)
     front_spin_keep_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # front_spin_keep_flag only for the spin toward the blown side as spin_front_applies defines it (measured rotation
+    # toward it; a sideslip trigger only with beta away from it); 0 = defect (the yaw deviation alone, G5)
+    front_spin_keep_rotation_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # front_spin_keep_flag only while the spin is being arrested: after the build and one yaw-mode time constant a yaw
+    # toward the blown side still reaching new highs is refused; 0 = defect (kept whatever the rotation does, G5)
+    front_spin_keep_arrest_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # braking rule's measured friction raised to the Dugoff capacity inversion of a linear reading (q >= 0.8 at the
     # lower pad gain, no ABS) of the compensating front while the driver brakes; 0 = seeded defect (only ever lowered)
     measured_mu_raise_flag: Annotated[int, Field(ge=0, le=1)] = 1
