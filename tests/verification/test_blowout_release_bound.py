@@ -56,10 +56,17 @@ def env():
 _run = envelope_point_run
 
 
-@pytest.mark.parametrize("sets,rejected", [((), False), (DEFECT, True)])
+# the release bound alone: G6's confirmation (rear_oversteer_yaw_flag) off, this rule on. Review RG2 (session g): with
+# G6's confirmation on, #101 is not rejected whatever this rule does (768 braking evaluations with release_bound_flag=0
+# changed 0 points) - the shipped rows below alone could not fail with this rule removed, the isolated rows can.
+ISOLATED = ("vehicle.blowout_compensation.rear_oversteer_yaw_flag=0",)
+
+
+@pytest.mark.parametrize("sets,rejected", [((), False), (ISOLATED, False), (DEFECT, True)])
 def test_real_fl_blowout_braking_not_rejected_as_false(env, sets, rejected):
-    """#101 is a real blowout: the function must not call it a false detection (no yaw_implausible rejection). The
-    defect row reproduces the code before (rejected at t_b + 0.85 s); it is the negative control of the first row."""
+    """#101 is a real blowout: the function must not call it a false detection (no yaw_implausible rejection), as
+    shipped and with the release bound as the only rule that keeps it (ISOLATED). The defect row reproduces the code
+    before (rejected at t_b + 0.85 s); it is the negative control of the other rows."""
     r = _run(env, P101, sets=sets)
     got = any(e.machine == "blowout_compensation" and e.reason == "yaw_implausible" for e in r.events)
     assert got == rejected
@@ -70,7 +77,9 @@ def test_real_fl_blowout_braking_no_worse_and_better_than_the_defect(env):
     none 8.51 m)."""
     on = envelope_point_metric(env, P101, METRIC)
     assert on < envelope_point_metric(env, P101, METRIC, baseline=True)
-    assert on < envelope_point_metric(env, P101, METRIC, sets=DEFECT)
+    defect = envelope_point_metric(env, P101, METRIC, sets=DEFECT)
+    assert on < defect
+    assert envelope_point_metric(env, P101, METRIC, sets=ISOLATED) < defect  # the release bound's own pay-off
 
 
 def test_release_bound_closed_form():
