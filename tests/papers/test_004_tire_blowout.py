@@ -45,14 +45,15 @@ def test_envelope_and_requirements_load():
 
 @pytest.mark.slow
 def test_falsification_campaign(tmp_path):
-    """The campaign reports one entry per requirement and envelope (feed-forward, closed loop); each verdict agrees
+    """The campaign reports one entry per requirement and envelope (feed-forward, closed loop; the false-alarm
+    envelope's lane bound); each verdict agrees
     with the sign of its robustness, and a reported counterexample of the no-worse requirement is reproduced
     independently: its written scenario re-run with and without compensation gives the reported robustness
     (no-compensation minus compensation, largest deviation over the run)."""
     import math
 
     figs, entries = reproduce.EXTRAS["falsify_004"](tmp_path)
-    assert len(entries) == 4
+    assert len(entries) == 5
     for e in entries:
         assert math.isfinite(e["value"]) and e["pass"] == (e["value"] >= 0.0)
     cex = tmp_path / "falsify_tire_blowout_no_worse_than_no_compensation" / "counterexample.toml"
