@@ -181,3 +181,46 @@ def fill_ecu_window(st, speeds, press) -> None:
             st[bc.S_P_BUF + i * n + k] = press[i]
     st[bc.S_BUF_LAST] = n - 1
     st[bc.S_BUF_FILL] = n
+
+
+class BlowoutEcu:
+    """The blowout compensation's ECU loop on given measurements: ``reference_step`` + ``blowout_step`` every 5 ms,
+    keeping the mode transitions as (from, to, reason) names in ``rows``. ``p``: packed vehicle parameters (copied;
+    ``changes`` set fields on the copy); ``v_mps``: the default speed of all four wheels."""
+
+    def __init__(self, p, v_mps: float = 60.0 / 3.6, **changes):
+        import numpy as np
+        from vehicle_assist.functions import blowout_compensation as bc
+        self.p = p.copy()
+        for k, v in changes.items():
+            setattr(self.p, k, v)
+        self.v = v_mps
+        self.st = bc.initial_state()
+        self.t = 0.0
+        self.events = np.zeros((64, 5))
+        self.n = 0
+        self.req = np.zeros(4, dtype=np.int64)
+        self.rows = []
+
+    def run(self, s, vw=None, tpms=0.0, yaw=0.0, braking=0.0, inlet=(1, 1, 1, 1), p_est=(0, 0, 0, 0), a_x=0.0,
+            a_y=0.0, p_mc=0.0, steer=0.0):
+        import numpy as np
+        from vehicle_assist.functions import blowout_compensation as bc
+        vw = np.array((self.v,) * 4 if vw is None else vw, float)
+        dt = 0.005
+        for _ in range(int(round(s / dt))):
+            v_ref = bc.reference_step(self.st, vw, a_x, tpms, dt, self.p)
+            n0 = self.n
+            self.n = bc.blowout_step(self.st, vw, v_ref, braking, a_x, yaw, steer, tpms, np.array(inlet, float),
+                                     np.array(p_est, float), self.p, dt, self.t, 6, self.events, self.n, self.req,
+                                     a_y, p_mc)
+            for k in range(n0, self.n):
+                _, _, f, to, g = self.events[k]
+                self.rows.append((bc.MODES[int(f)], bc.MODES[int(to)], bc.REASONS[int(g)]))
+            self.t += dt
+        return self
+
+    @property
+    def mode(self):
+        from vehicle_assist.functions import blowout_compensation as bc
+        return bc.MODES[int(self.st[bc.S_MODE])]

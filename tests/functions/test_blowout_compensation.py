@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import vehicle_assist as va
+from tests.support import BlowoutEcu
 from vehicle_assist.functions import blowout_compensation as bc
 from vehicle_assist.functions import esp
 
@@ -82,38 +83,7 @@ def params():
     return pack_records([va.load_scenario("blowout_lf_60kph_paper").vehicle.flat()])[0]
 
 
-class Ecu:
-    """reference_step + blowout_step every 5 ms on given measurements; keeps (from, to, reason) names."""
-
-    def __init__(self, p, **changes):
-        self.p = p.copy()
-        for k, v in changes.items():
-            setattr(self.p, k, v)
-        self.st = bc.initial_state()
-        self.t = 0.0
-        self.events = np.zeros((64, 5))
-        self.n = 0
-        self.req = np.zeros(4, dtype=np.int64)
-        self.rows = []
-
-    def run(self, s, vw=(V, V, V, V), tpms=0.0, yaw=0.0, braking=0.0, inlet=(1, 1, 1, 1), p_est=(0, 0, 0, 0), a_x=0.0,
-            a_y=0.0, p_mc=0.0):
-        dt = 0.005
-        for _ in range(int(round(s / dt))):
-            v_ref = bc.reference_step(self.st, np.array(vw, float), a_x, tpms, dt, self.p)
-            n0 = self.n
-            self.n = bc.blowout_step(self.st, np.array(vw, float), v_ref, braking, a_x, yaw, 0.0, tpms, np.array(inlet, float),
-                                     np.array(p_est, float), self.p, dt, self.t, 6, self.events, self.n, self.req,
-                                     a_y, p_mc)
-            for k in range(n0, self.n):
-                _, _, f, to, g = self.events[k]
-                self.rows.append((bc.MODES[int(f)], bc.MODES[int(to)], bc.REASONS[int(g)]))
-            self.t += dt
-        return self
-
-    @property
-    def mode(self):
-        return bc.MODES[int(self.st[bc.S_MODE])]
+Ecu = BlowoutEcu  # tests/support.py: the ECU loop on given measurements
 
 
 BLOWN_LF = dict(vw=(FAST, V, V, V), tpms=1.0)
