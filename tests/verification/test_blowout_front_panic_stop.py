@@ -16,8 +16,8 @@ same late-pedal front points at 60/80 km/h or mu 0.45/0.55 keep 0.5-0.6 x the tw
 
 References (independent of the code): the road's friction limit mu*g (UN R13-H Annex 6 asks an ABS stop for an adhesion
 utilisation of at least 0.75; the bound is half the limit, as in test_blowout_braking_driver.py) and the
-no-compensation twin. Not fixed (strict xfail): the caps are the braking rule's stability design (rear pair in its
-Dugoff linear region at the measured friction); what to change is for the owner of the braking rule.
+no-compensation twin. At the review these were strict xfails (fixed below): the caps are the braking rule's
+stability design (rear pair in its Dugoff linear region at the measured friction).
 
 Fixed (session g, G7, ``measured_mu_raise_flag``): the measured friction had been read at the build overshoot and the
 ABS dump after it on lagging filtered signals (0.284, then 0.246/0.202/0.176 on the recovering wheel; the road's peak
