@@ -1655,16 +1655,18 @@ def rear_oversteer_cap(st, b, yaw_rate, p_est, p, r_ref=0.0, mode=-1):
         # the steered turn - an understeer of that turn, not a rotation toward the blown side; a car rotating toward
         # the blown side against a counter-steering driver (r beyond the dead band) still is the rule's oversteer
         yaw_os = yaw_os and toward_blown_side(b, yaw_rate + r_ref) > p.blowout_compensation_yaw_deadband_radps
-    if phase_plane_spin(b, yaw_rate, st[S_BETA_EST], st[S_BETA_DOT], p):
+    spin = phase_plane_spin(b, yaw_rate, st[S_BETA_EST], st[S_BETA_DOT], p)
+    if spin or yaw_os:
+        # the pair held at its lower present pressure (the cap never rises while it lasts); the phase-plane spin also
+        # lowers it one step per period, the yaw-rate oversteer (rear_oversteer_yaw_flag) only holds it
         low = min(p_est[2], p_est[3])
         c = st[S_REAR_OS_CAP]
         c = low if c < 0.0 else min(c, low)
-        st[S_REAR_OS_CAP] = max(c - p.blowout_compensation_rear_oversteer_step_pa, 0.0)
-    elif yaw_os:
-        low = min(p_est[2], p_est[3])
-        c = st[S_REAR_OS_CAP]
-        st[S_REAR_OS_CAP] = low if c < 0.0 else min(c, low)
-        st[S_OS_YAW_SEEN] = 1.0
+        if spin:
+            c = max(c - p.blowout_compensation_rear_oversteer_step_pa, 0.0)
+        else:
+            st[S_OS_YAW_SEEN] = 1.0
+        st[S_REAR_OS_CAP] = c
     else:
         st[S_REAR_OS_CAP] = -1.0
     if st[S_REAR_OS_CAP] >= 0.0:
