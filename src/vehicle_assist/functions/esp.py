@@ -438,8 +438,16 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     # (the GMA held that wheel at ~10 bar against the braking rule's 65 bar, findings_F.md Q4)
     blk_b = blown if (0 <= tgt < 2 and 0 <= blown < 2 and blown != tgt
                       and p.blowout_compensation_gma_blown_front_flag > 0.5) else -1
-    act0 = wheels[0, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 0 and blk_b != 0
-    act1 = wheels[1, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 1 and blk_b != 1
+    # (gma_rejected_flag) after a FRONT detection is rejected, while the block of its compensating front is kept: the
+    # rejected front - released by the function, then given the driver's pressure at once (reject_reapply_flag) - is
+    # in ABS because of the function's own release/re-apply, not a split-mu road: its activity does not start the GMA
+    # on the compensating front either (false FR alarm in a 650 m left curve, braking: the GMA took FL 29.9 -> 15.8 bar
+    # on the curve's own yaw and held it for ~1 s against FR at 45.7 bar - 2.13 m vs 0.35 m without the function)
+    rej = int(bst[bc.S_REJECTED])
+    blk_r = rej if (tgt < 0 and 0 <= blk < 2 and 0 <= rej < 2 and rej != blk
+                    and p.blowout_compensation_gma_rejected_flag > 0.5) else -1
+    act0 = wheels[0, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 0 and blk_b != 0 and blk_r != 0
+    act1 = wheels[1, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 1 and blk_b != 1 and blk_r != 1
     spin_front = tgt if (0 <= tgt < 2 and bst[bc.S_LIMIT_CODE] == bc.LIMIT_SPIN_FRONT) else -1
     if act0 != act1 and ctl[C_GMA_WHEEL] < 0.0 and abs_allowed and (1 if act0 else 0) != spin_front:
         # (never on the spin-front wheel: ended above, it was re-armed here in the same period, its start reset

@@ -259,6 +259,9 @@ class SedanBlowoutCompensation(Strict):
     # braking rule's measured friction raised to the Dugoff capacity inversion of a linear reading (q >= 0.8 at the
     # lower pad gain, no ABS) of the compensating front while the driver brakes; 0 = seeded defect (only ever lowered)
     measured_mu_raise_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # after a front detection is rejected, while the GMA block of its compensating front is kept, the re-applied
+    # (rejected) front's ABS activity does not start the GMA on the compensating front either; 0 = seeded defect
+    gma_rejected_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
