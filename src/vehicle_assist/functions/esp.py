@@ -302,8 +302,8 @@ def abs_wheel_decel_mps2(bst, i, dt):
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def reference_update(ctl, vw_arr, v_plaus, ref_changed, bls, a_x, valve_quiet_s, p, dt):
-    """The reference speed of this period from the plausible wheels' max ``v_plaus`` (module doc, step 1): the fall bound
-    (accelerometer + margin) always, the rise bounds while braking (``reference_braking_plausibility_flag``,
+    """The reference speed of this period from the plausible wheels' max ``v_plaus`` (module doc, step 1): the fall
+    bound (accelerometer + margin) always, the rise bounds while braking (``reference_braking_plausibility_flag``,
     ``reference_braking_rise_limit_flag``); ``ctl[C_V_REF]`` holds the previous value (not written here)."""
     decel = abs(min(a_x, 0.0)) + p.esp_reference_decel_margin_mps2
     if ref_changed:
