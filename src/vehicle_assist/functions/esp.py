@@ -13,7 +13,11 @@ Per period:
    (``reference_braking_plausibility_flag``) the reference rises at most at max(a_x, 0) + RISE_MARGIN (a braked car
    cannot speed up) and a wheel above that bound by the same band for the same time, with no ABS activity for
    ``reference_braking_abs_quiet_time_s``, is left out (an ABS-recovering wheel returns to the vehicle speed from
-   below): a pedal within ~0.1 s of a blowout comes before the unbraked decision (finding F4b).
+   below): a pedal within ~0.1 s of a blowout comes before the unbraked decision (finding F4b). Past the pedal onset
+   (``reference_braking_rise_limit_flag``) ONE wheel lifts the reference at most at a_x + ``reference_braking_rise_
+   margin_mps2`` whatever its valves do (ABS practice: the reference's rise is limited to the largest possible vehicle
+   acceleration; an ABS-dumped flat front spinning up to its smaller radius carried it 25.2 -> 32.6 m/s in 0.3 s,
+   finding G8); the second fastest wheel lifts it freely (two wheels agreeing show the car's speed).
 2. Pressure-sensor health: valid flag from the sensor, plus plausibility against the brake-light switch
    (switch on with p_mc below ``plausibility_pressure`` for ``plausibility_time``, or off with p_mc above it,
    latches a fault).
@@ -168,6 +172,22 @@ def braking_outlier(vw, ex, abs_quiet_s, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def second_fastest(vw, ex):
+    """The second fastest wheel speed among the wheels other than ``ex`` (-1: none left out)."""
+    v1 = 0.0
+    v2 = 0.0
+    for i in range(4):
+        if i == ex:
+            continue
+        if vw[i] > v1:
+            v2 = v1
+            v1 = vw[i]
+        elif vw[i] > v2:
+            v2 = vw[i]
+    return v2
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def braking_onset(ctl, p):
     """True within ``reference_braking_onset_s`` of the brake-light switch coming on (always with the seeded defect
     ``reference_braking_outlier_flag`` = 0): the 968b8ea braking test applies to every wheel there."""
@@ -281,6 +301,50 @@ def abs_wheel_decel_mps2(bst, i, dt):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def reference_update(ctl, vw_arr, v_plaus, ref_changed, bls, a_x, valve_quiet_s, p, dt):
+    """The reference speed of this period from the plausible wheels' max ``v_plaus`` (module doc, step 1): the fall
+    bound (accelerometer + margin) always, the rise bounds while braking (``reference_braking_plausibility_flag``,
+    ``reference_braking_rise_limit_flag``); ``ctl[C_V_REF]`` holds the previous value (not written here)."""
+    decel = abs(min(a_x, 0.0)) + p.esp_reference_decel_margin_mps2
+    if ref_changed:
+        # the reference rode the implausible wheel: it restarts from the plausible ones (the accelerometer bound
+        # would otherwise hold the inflated value for seconds)
+        v_ref = v_plaus
+    else:
+        v_ref = max(v_plaus, ctl[C_V_REF] - decel * dt)
+        if p.esp_reference_braking_plausibility_flag > 0.5 and bls:
+            # braking: the car cannot speed up faster than the accelerometer says (+ margin, as the blowout
+            # compensation's reference); 0 = seeded defect (F4b: the reference rides a wheel blown just before the pedal)
+            v_cap = ctl[C_V_REF] + (max(a_x, 0.0) + bc.RISE_MARGIN_MPS2) * dt
+            if not braking_onset(ctl, p):
+                # past the pedal onset the bound holds back only a possible fast tire (braking_outlier) while its test
+                # persists: the other wheels lift the reference freely (a wheel coming back from a release, or several
+                # wheels together, show the car's speed: a reference drifted low must rise back to them)
+                ex_now = int(ctl[C_REF_EXCLUDED])
+                cand = braking_outlier(vw_arr, ex_now, valve_quiet_s, p)
+                if cand >= 0:
+                    v_rest = 0.0
+                    for i in range(4):
+                        if i != ex_now and i != cand:
+                            v_rest = max(v_rest, vw_arr[i])
+                    v_ref = max(min(v_ref, v_cap), v_rest)
+                elif p.esp_reference_braking_rise_limit_flag > 0.5:
+                    # (reference_braking_rise_limit_flag) ABS practice: the reference's rise is limited to the car's
+                    # largest possible acceleration (Kelsey-Hayes US 5,644,490; Bosch: the reference increase limited
+                    # by the maximum possible vehicle acceleration) - a braked car's speed changes at the measured
+                    # a_x, so ONE wheel lifts the reference at most at a_x + margin, whatever its valves do (a dumped
+                    # flat front spins up to its smaller radius: G8, 25.2 -> 32.6 m/s in 0.3 s, the twin stopped
+                    # braking; a wheel-speed sensor fault, a compact spare). Two wheels together still lift it freely
+                    # (the second fastest): a reference drifted low comes back to them; one recovering wheel brings
+                    # it back at the margin.
+                    v_lim = ctl[C_V_REF] + (a_x + p.esp_reference_braking_rise_margin_mps2) * dt
+                    v_ref = max(min(v_ref, v_lim), second_fastest(vw_arr, ex_now))
+            else:
+                v_ref = min(v_ref, v_cap)
+    return v_ref
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, abs_guards, hba_guards, bst, m_blow):
     """One ESP period; writes the wheel valve modes into ``wheels[:, A_WHEEL_MODE]``; returns n_events."""
     r_w = p.body_wheel_radius_m
@@ -308,31 +372,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     ctl[C_BRAKED_S] = ctl[C_BRAKED_S] + dt if bls else 0.0
     v_plaus, ref_changed = plausible_reference(ctl, vw_arr, bls, p, dt, meas.longitudinal_accel_mps2,
                                                wheels[:, A_ABS_QUIET_S], wheels[:, A_VALVE_QUIET_S])
-    decel = abs(min(meas.longitudinal_accel_mps2, 0.0)) + p.esp_reference_decel_margin_mps2
-    if ref_changed:
-        # the reference rode the implausible wheel: it restarts from the plausible ones (the accelerometer bound
-        # would otherwise hold the inflated value for seconds)
-        v_ref = v_plaus
-    else:
-        v_ref = max(v_plaus, ctl[C_V_REF] - decel * dt)
-        if p.esp_reference_braking_plausibility_flag > 0.5 and bls:
-            # braking: the car cannot speed up faster than the accelerometer says (+ margin, as the blowout
-            # compensation's reference); 0 = seeded defect (F4b: the reference rides a wheel blown just before the pedal)
-            v_cap = ctl[C_V_REF] + (max(meas.longitudinal_accel_mps2, 0.0) + bc.RISE_MARGIN_MPS2) * dt
-            if not braking_onset(ctl, p):
-                # past the pedal onset the bound holds back only a possible fast tire (braking_outlier) while its test
-                # persists: the other wheels lift the reference freely (a wheel coming back from a release, or several
-                # wheels together, show the car's speed: a reference drifted low must rise back to them)
-                ex_now = int(ctl[C_REF_EXCLUDED])
-                cand = braking_outlier(vw_arr, ex_now, wheels[:, A_VALVE_QUIET_S], p)
-                if cand >= 0:
-                    v_rest = 0.0
-                    for i in range(4):
-                        if i != ex_now and i != cand:
-                            v_rest = max(v_rest, vw_arr[i])
-                    v_ref = max(min(v_ref, v_cap), v_rest)
-            else:
-                v_ref = min(v_ref, v_cap)
+    v_ref = reference_update(ctl, vw_arr, v_plaus, ref_changed, bls, meas.longitudinal_accel_mps2,
+                             wheels[:, A_VALVE_QUIET_S], p, dt)
     if blown >= 0:
         v_ref = v_ref_intact  # a blown wheel turns faster (smaller radius): the reference ignores it
     ctl[C_V_REF] = v_ref

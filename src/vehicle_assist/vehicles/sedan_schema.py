@@ -140,6 +140,10 @@ class SedanEsp(Strict):
     # while braking only a lone valve-quiet fast wheel is bounded/left out; 0 = defect (968b8ea: any own-mode-quiet wheel)
     reference_braking_outlier_flag: Annotated[int, Field(ge=0, le=1)] = 1
     reference_braking_onset_s: Annotated[float, Field(gt=0, le=5)] = 0.3
+    # while braking past the onset one wheel lifts the reference at most at a_x + margin (ABS reference slope limit,
+    # whatever its valves do); 0 = defect (G8: an ABS-active flat front carried the reference 25.2 -> 32.6 m/s in 0.3 s)
+    reference_braking_rise_limit_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    reference_braking_rise_margin_mps2: Annotated[float, Field(gt=0, le=10)] = 2.0
     plausibility_time_s: Annotated[float, Field(gt=0, le=5)]
     plausibility_pressure_bar: Annotated[float, Field(gt=0, le=50)]
 
