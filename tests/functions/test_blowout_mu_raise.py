@@ -34,6 +34,7 @@ def _params(*sets):
 BOUND0 = "vehicle.blowout_compensation.measured_mu_bound_flag=0"
 LOWER0 = "vehicle.blowout_compensation.measured_mu_lower_flag=0"
 ABSLIM0 = "vehicle.blowout_compensation.front_abs_limit_flag=0"
+REARLIM0 = "vehicle.blowout_compensation.rear_abs_limit_flag=0"
 
 
 @pytest.fixture(scope="module")
@@ -238,3 +239,23 @@ def test_front_cap_lifted_under_the_pedal(params):
         out.append(st[bc.S_P_BRAKE])
     assert out[0] == pytest.approx(5.0e5 + params.blowout_compensation_braking_share_frac * 100.0e5)
     assert out[1] < 0.5 * out[0]
+
+
+def test_rear_pair_left_to_abs_while_the_front_is_at_its_abs_limit(params):
+    """rear_abs_limit_flag: with a measured friction (0.15) and ABS active on the compensating front the rear pair has no
+    friction cap (S_REAR_CAP -1: ABS limits it); without ABS activity it is capped; with the flag 0 capped either way."""
+    from vehicle_assist.functions import blowout_compensation as bc
+
+    def rear_cap(p, abs_front):
+        st = bc.initial_state()
+        st[bc.S_BLOWN], st[bc.S_TARGET], st[bc.S_MODE] = FL, FR, bc.HOLD
+        st[bc.S_P_REQ] = 5.0e5
+        st[bc.S_MU_MEAS] = 0.15
+        st[bc.S_ABS_ACTIVE + FR] = 1.0 if abs_front else 0.0
+        bc.braking_rule(st, FL, FR, bc.HOLD, 1.0, -3.0, 0.0, 0.0, 100.0e5, np.array((0.0, 5.0e5, 0.0, 0.0)), params
+                        if p is None else p)
+        return st[bc.S_REAR_CAP]
+
+    assert rear_cap(None, True) == -1.0
+    assert rear_cap(None, False) > 0.0
+    assert rear_cap(_params(REARLIM0), True) > 0.0

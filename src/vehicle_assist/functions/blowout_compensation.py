@@ -1605,6 +1605,13 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
             f_rl = max(f_rl, wheel_circle_limit_mu(2, gl[2], a_y_ref, mu, b, p))
             f_rr = max(f_rr, wheel_circle_limit_mu(3, gl[3], a_y_ref, mu, b, p))
         st[S_REAR_CAP] = min(f_rl, f_rr) * r_w / p.brakes_rear_gain_nm_per_pa
+        if p.blowout_compensation_rear_abs_limit_flag > 0.5 and st[S_ABS_ACTIVE + tg] > 0.5:
+            # (rear_abs_limit_flag, 0 = seeded defect = capped) the compensating front is at its ABS limit: the driver
+            # asks more than the road gives. The measured friction is a lower bound read on that FRONT wheel (the
+            # dump's force at the fade gain); a rear cap at it held the rears far below what their ABS allows (60 km/h
+            # front panic stop: 8 bar, 0.18 kN each vs the twin's 33 bar, 0.84 kN). ABS is the rears' limiter (select-
+            # low pair: no moment), the oversteer caps below still act
+            st[S_REAR_CAP] = -1.0
     if p.blowout_compensation_rear_oversteer_flag > 0.5:
         rear_oversteer_cap(st, b, yaw_rate, p_est, p, r_ref, mode)
 

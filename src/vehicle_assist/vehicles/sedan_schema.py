@@ -274,6 +274,9 @@ class SedanBlowoutCompensation(Strict):
     # braking rule: the compensating front not capped at the measured friction (a lower bound) - ABS limits it, the
     # yaw gate keeps the balance; an ABS dump's force at the fade gain raises the measured friction; 0 = seeded defect
     front_abs_limit_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # braking rule: rear pair not capped at the measured friction (a front wheel's lower bound) while ABS is active on
+    # the compensating front - ABS limits the rears, the oversteer caps still apply; 0 = seeded defect (capped)
+    rear_abs_limit_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
