@@ -30,8 +30,9 @@ plan-time load; at #36 it rested on a slip read 17.5 ms late, 1.45 % vs 1.91 % t
 lower gain); made a guaranteed lower bound (measured_mu_bound_flag) it no longer raises #36 (2.13 m/s^2 again). The
 fix for the panic stop (front_abs_limit_flag): the compensating front is no longer capped at that lower bound under
 the pedal - ABS, which guards it, is its limiter and the yaw gate its balance - and an ABS dump on it raises the
-measured friction to its force there (fade gain: a lower bound). #36 3.29 m/s^2, 0.407 m (G7: 3.10, 0.554; none 4.86,
-0.855); 60/80 km/h 3.09/3.20 m/s^2 (G7 2.88/2.64; the twin ~5.2). Can fail: front_abs_limit_flag = 0 in the toml fails
+measured friction to its force there (fade gain: a lower bound): #36 3.29 m/s^2, 0.407 m; with the rear pair also left
+to ABS while the front is ABS-active (rear_abs_limit_flag) 3.82 m/s^2, 0.373 m (G7: 3.10, 0.554; none 4.86, 0.855);
+60/80 km/h 3.91/3.94 m/s^2 (G7 2.88/2.64; the twin ~5.2). Can fail: front_abs_limit_flag = 0 in the toml fails
 the two tests of #36 (negative control test_front_blowout_panic_stop_under_braked_with_the_defect); the neighbours
 pass either way (RG: above the bound at 0.5-0.6 x the twin's deceleration) - they guard against a fix that breaks
 them."""
