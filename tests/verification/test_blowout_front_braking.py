@@ -80,8 +80,10 @@ def test_knife_edge_point_no_worse(p16):
 
 def test_knife_edge_point_worse_with_the_lateral_demand_counted_twice(env, p16):
     """Negative control: front_circle_measured_flag = 0 (the circle sqrt((mu_meas*F_z)^2 - F_y^2)) - 0.312 m vs none
-    0.225 m at the commit of the flag."""
-    assert _dev(env, P16, sets=["vehicle.blowout_compensation.front_circle_measured_flag=0"]) > p16["off"]
+    0.225 m at the commit of the flag. Session h (H1): front_abs_limit_flag lifts that cap under the pedal altogether,
+    so the control isolates the circle with it at 0 (with it on: 0.185 m, the circle not reached)."""
+    assert _dev(env, P16, sets=["vehicle.blowout_compensation.front_circle_measured_flag=0",
+                                "vehicle.blowout_compensation.front_abs_limit_flag=0"]) > p16["off"]
 
 
 def test_knife_edge_point_braking_no_worse_than_not_braking(p16):

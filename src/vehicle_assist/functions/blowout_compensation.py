@@ -305,7 +305,10 @@ S_LIN_S = S_OS_YAW_SEEN + 1
 # (front_spin_keep) and the highest yaw rate toward the blown side seen while kept
 S_KEEP_S = S_LIN_S + 1
 S_KEEP_PEAK = S_KEEP_S + 1
-STATE_SIZE = S_KEEP_PEAK + 1
+# measured_mu_lower_flag: the braking rule's measured friction before the first raise of this pedal application (the
+# floor the raise is taken back to after an ABS dump of the compensating front; -1 = not raised)
+S_MU_PRE = S_KEEP_PEAK + 1
+STATE_SIZE = S_MU_PRE + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -358,6 +361,7 @@ def initial_state() -> np.ndarray:
     st[S_HEALTHY_S] = -1.0
     st[S_REAPPLY] = -1.0
     st[S_REAR_OS_CAP] = -1.0
+    st[S_MU_PRE] = -1.0
     return st
 
 
@@ -933,6 +937,8 @@ def _plan(st, b, target, limited, slip_mean, a_x, a_y, p_est, p):
     st[S_VW_PREV] = -1.0
     st[S_SLIP_HIGH_S] = 0.0
     st[S_US_LIMITED] = 0.0  # ... and not lowered by the understeer rule (understeer_rule)
+    if p.blowout_compensation_measured_mu_bound_flag > 0.5:
+        st[S_LIN_S] = 0.0  # ... and a new wheel's linear-reading time starts from zero (measured_mu_raise)
     if target >= 2 and p.blowout_compensation_slip_limit_flag > 0.5:
         # rear compensating wheel: its brake force kept inside the Dugoff linear region with the lateral force the
         # rear axle needs now (rear_linear_limit); the feed-forward pressure is capped at that force
@@ -1417,7 +1423,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                 requests[tg] = Q_HOLD  # once limited, the build does not start again: hold at the lowered target
         if p.blowout_compensation_tire_capacity_flag > 0.5 and st[S_LIMIT_CODE] != LIMIT_SPIN_FRONT:
             # (not on the spin-front wheel: its lost lateral force is the intended understeer)
-            tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, dt)
+            tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, dt, a_x)
         if p.blowout_compensation_understeer_flag > 0.5:
             understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, requests, p, dt)
     if p.blowout_compensation_braking_rule_flag > 0.5:
@@ -1578,6 +1584,12 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
         # friction left for F_x next to the curve's lateral force - the circle would subtract F_y a second time
         fx_max = mu * max(gl[tg], 0.0)
     p_circle = fx_max * r_w / p.brakes_front_gain_nm_per_pa
+    if p.blowout_compensation_front_abs_limit_flag > 0.5 and st[S_MU_MEAS] > 0.0:
+        # (front_abs_limit_flag, 0 = seeded defect = capped at mu_meas*F_z) the measured friction is a lower bound
+        # (measured_mu_raise: what the wheel's readings prove, not its limit); a cap at it holds a compensating front
+        # that was never measured at its limit below what ABS - which guards this wheel while the driver brakes
+        # (functions/esp.py) - would allow. ABS is the limiter; the yaw gate below keeps the balance
+        p_circle = 1.0e9
     p_full = max(p_bal, min(p_bal + p.blowout_compensation_braking_share_frac * max(p_mc, 0.0), p_circle))
     toward = toward_blown_side(b, yaw_rate)
     if toward < -p.blowout_compensation_yaw_deadband_radps:
@@ -1593,6 +1605,13 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
             f_rl = max(f_rl, wheel_circle_limit_mu(2, gl[2], a_y_ref, mu, b, p))
             f_rr = max(f_rr, wheel_circle_limit_mu(3, gl[3], a_y_ref, mu, b, p))
         st[S_REAR_CAP] = min(f_rl, f_rr) * r_w / p.brakes_rear_gain_nm_per_pa
+        if p.blowout_compensation_rear_abs_limit_flag > 0.5 and st[S_ABS_ACTIVE + tg] > 0.5:
+            # (rear_abs_limit_flag, 0 = seeded defect = capped) the compensating front is at its ABS limit: the driver
+            # asks more than the road gives. The measured friction is a lower bound read on that FRONT wheel (the
+            # dump's force at the fade gain); a rear cap at it held the rears far below what their ABS allows (60 km/h
+            # front panic stop: 8 bar, 0.18 kN each vs the twin's 33 bar, 0.84 kN). ABS is the rears' limiter (select-
+            # low pair: no moment), the oversteer caps below still act
+            st[S_REAR_CAP] = -1.0
     if p.blowout_compensation_rear_oversteer_flag > 0.5:
         rear_oversteer_cap(st, b, yaw_rate, p_est, p, r_ref, mode)
 
@@ -1705,7 +1724,7 @@ def _cap_slip_pressure(st, tg, v_s, cap, dt, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, dt):
+def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, dt, a_x=0.0):
     """Compensating wheel (front or rear) limited by what its tire measurably gives (``tire_capacity_flag``, 0 = seeded
     defect; issue #10 round 3): the ECU plans from its nominal mu 0.8, which over-states a wet road. While the wheel
     carries added pressure, ``tire_capacity_check`` compares its measured brake force with the nominal linear force at
@@ -1785,11 +1804,11 @@ def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, 
         elif requests[tg] != Q_RELEASE:
             requests[tg] = Q_HOLD
     if p.blowout_compensation_measured_mu_raise_flag > 0.5:
-        measured_mu_raise(st, tg, v_ref, braking, p_est, gain, p, dt)
+        measured_mu_raise(st, tg, v_ref, braking, p_est, gain, p, dt, a_x, a_y_ref)
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def measured_mu_raise(st, tg, v_ref, braking, p_est, gain, p, dt):
+def measured_mu_raise(st, tg, v_ref, braking, p_est, gain, p, dt, a_x=0.0, a_y=0.0):
     """The braking rule's measured friction S_MU_MEAS raised by a linear reading (``measured_mu_raise_flag``, 0 =
     seeded defect = only ever lowered; findings_F.md RG/G7, random 17 #36). S_MU_MEAS is the lowest capacity read while
     the compensating front was out of its linear region before the pedal - a build overshoot and the ABS dump after it,
@@ -1805,24 +1824,105 @@ def measured_mu_raise(st, tg, v_ref, braking, p_est, gain, p, dt):
     tolerance (the least force the measurement allows), at most to the ECU's nominal mu_estimate_frac (the friction it
     uses without a measurement). The braking rule's caps then rise with the force the wheel measurably carries
     linearly and stop where it leaves the linear region (Dugoff: linear up to F = mu*F_z/2, so the bound never
-    exceeds the road's friction); never lowered here (the lowering stays the capacity rule's, without the pedal)."""
+    exceeds the road's friction); never lowered here (the lowering stays the capacity rule's, without the pedal).
+
+    ``measured_mu_bound_flag`` (0 = seeded defect = the rule above; findings_F.md H1, docs item 10 (a)-(d)): that
+    reading over-stated the friction wherever the plant differs from the ECU's data - the brake force taken at the cold
+    band's lower edge (0.82) while fade reaches 0.66, q compared with the nominal C_x while C_x is known to
+    +-longitudinal_stiffness_tolerance_frac, and the capacity over the plan-time load while the wheel is measured under
+    braking load transfer (a forward Dugoff scan: up to 1.6 x the true mu). Now a guaranteed lower bound (``mu_lower_
+    bound``): Dugoff (spec 2.3, combined slip too) gives F_x = C_x*s/(1 - s)*f(H) and mu*F_z = 2*H*sqrt((C_x*s)^2 +
+    (C_a*tan(alpha))^2)/(1 - s) >= F_x*2*H/f(H) = F_x*2/(2 - H) (H < 1; 2*F_x at H >= 1), increasing in H; with the
+    brake gain at least the fade edge (brake_gain_fade_low_frac) F_x >= F_lo, and with C_x at most (1 + tol)*C_x,nom
+    f(H) >= q_lo/(1 + tol), hence H >= H_lo = 1 - sqrt(1 - f_lo) and mu*F_z >= 2*F_lo/(1 + sqrt(1 - f_lo)) - no C_x
+    lower bound and no alpha needed, valid for any q (the q >= CAP_FORCE_RATIO gate is dropped: a saturated reading
+    still proves mu*F_z >= F_lo, the friction circle). Over the wheel's present load at most: the ECU's load at the
+    measured a_x with the blowout transfer (the braking rule's own ``ecu_loads``) plus the lateral transfer at a_y.
+    ``measured_mu_lower_flag`` (0 = seeded defect = a raise is kept to the end of the stop; item 10 (e)): an ABS dump
+    on the compensating front under the pedal (S_P_PREDUMP, slip evidence) marks its present limit; the raise is taken
+    back to the force at the dump's start (upper pad gain: the most force the pressure allows, over the least load)
+    and never below the value before the raise (S_MU_PRE) - a raise proven on a better patch does not outlive the
+    wheel's own limit."""
     if braking < 0.5 or tg >= 2 or st[S_MU_MEAS] <= 0.0 or st[S_FZ_TARGET] <= 1.0:
         st[S_LIN_S] = 0.0
+        st[S_MU_PRE] = -1.0
         return
-    g_lo = 1.0 - p.blowout_compensation_brake_gain_tolerance_frac
+    bound = p.blowout_compensation_measured_mu_bound_flag > 0.5
     v_s = slip_reference_mps(st, int(st[S_BLOWN]), tg, v_ref, braking)
     p_m, v_m = wheel_pressure_mean(st, tg), wheel_speed_mean(st, tg)
     wdot = wheel_accel_mps2(st, tg, dt) / p.body_wheel_radius_m
-    _, s_tg, q, cap = tire_capacity_estimate(p_m, v_m, wdot, v_s, gain * g_lo, p)
     settled = abs(p_m - p_est[tg]) < 1.0e5
-    if s_tg > CAP_MIN_SLIP and q >= CAP_FORCE_RATIO and settled and st[S_ABS_ACTIVE + tg] < 0.5:
+    if bound:
+        # the window's mean speed and pressure are WS_WINDOW_N/2 periods old: the slip is taken against the reference
+        # of that time (the decelerating car was faster then; v_ref now under-read the slip by |a_x|*17.5 ms/v -
+        # random 17 #36: 1.45 % read vs 1.91 % true at 13 bar, which made a linear-looking q)
+        v_s = v_s - a_x * 0.5 * (WS_WINDOW_N - 1) * dt
+        fz_hi, fz_lo = mu_raise_loads_n(st, tg, a_x, a_y, p)
+        if (p.blowout_compensation_measured_mu_lower_flag > 0.5 and st[S_MU_PRE] > 0.0
+                and st[S_ABS_ACTIVE + tg] > 0.5 and st[S_P_PREDUMP] > 0.0):
+            # (measured_mu_lower_flag) ABS found the wheel's limit: the raise no higher than the force there
+            g_hi = 1.0 + p.blowout_compensation_brake_gain_tolerance_frac
+            mu_abs = g_hi * gain * st[S_P_PREDUMP] / p.body_wheel_radius_m / max(fz_lo, 1.0)
+            st[S_MU_MEAS] = min(st[S_MU_MEAS], max(st[S_MU_PRE], mu_abs))
+        if (p.blowout_compensation_front_abs_limit_flag > 0.5 and st[S_ABS_ACTIVE + tg] > 0.5
+                and st[S_P_PREDUMP] > 0.0):
+            # (front_abs_limit_flag) ABS found the wheel's limit: the force at the dump's start at the fade edge of
+            # the pad gain, with the wheel's deceleration, is a lower bound of mu*F_z (friction circle, spec 2.3)
+            mu_dump = mu_lower_bound(st[S_P_PREDUMP], v_m, min(wdot, 0.0), v_s, gain, p) / max(fz_hi, 1.0)
+            mu_dump = min(mu_dump, p.blowout_compensation_mu_estimate_frac)
+            if mu_dump > st[S_MU_MEAS]:
+                if st[S_MU_PRE] <= 0.0:
+                    st[S_MU_PRE] = st[S_MU_MEAS]
+                st[S_MU_MEAS] = mu_dump
+        mu_lin = mu_lower_bound(p_m, v_m, wdot, v_s, gain, p) / max(fz_hi, 1.0)
+        evidence = v_s > 0.0 and (v_s - v_m) / max(v_s, 1.0) > CAP_MIN_SLIP
+    else:
+        g_lo = 1.0 - p.blowout_compensation_brake_gain_tolerance_frac
+        _, s_tg, q, cap = tire_capacity_estimate(p_m, v_m, wdot, v_s, gain * g_lo, p)
+        mu_lin = cap / st[S_FZ_TARGET]
+        evidence = s_tg > CAP_MIN_SLIP and q >= CAP_FORCE_RATIO
+    if evidence and settled and st[S_ABS_ACTIVE + tg] < 0.5:
         st[S_LIN_S] += dt
     else:
         st[S_LIN_S] = 0.0
     if st[S_LIN_S] >= CAP_PERSIST_S - 1e-9:
-        mu_lin = min(cap / st[S_FZ_TARGET], p.blowout_compensation_mu_estimate_frac)
+        mu_lin = min(mu_lin, p.blowout_compensation_mu_estimate_frac)
         if mu_lin > st[S_MU_MEAS]:
+            if st[S_MU_PRE] <= 0.0:
+                st[S_MU_PRE] = st[S_MU_MEAS]
             st[S_MU_MEAS] = mu_lin
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def mu_lower_bound(p_wheel_pa, vw_now, omega_dot, v_ref, gain_nm_per_pa, p):
+    """Friction capacity mu*F_z [N] the braked wheel's reading guarantees whatever the pad friction and C_x within
+    their tolerances (``measured_mu_bound_flag``; derivation in ``measured_mu_raise``): F_lo = the brake force at the
+    fade edge of the pad gain (brake_gain_fade_low_frac x nominal), q_lo = F_lo/(C_x,nom*s/(1 - s)), f_lo =
+    min(q_lo/(1 + longitudinal_stiffness_tolerance_frac), 1), mu*F_z >= 2*F_lo/(1 + sqrt(1 - f_lo))."""
+    fx, _, q, _ = tire_capacity_estimate(p_wheel_pa, vw_now, omega_dot, v_ref,
+                                         gain_nm_per_pa * p.blowout_compensation_brake_gain_fade_low_frac, p)
+    if fx <= 0.0:
+        return 0.0
+    f_lo = min(q / (1.0 + p.blowout_compensation_longitudinal_stiffness_tolerance_frac), 1.0)
+    return 2.0 * fx / (1.0 + math.sqrt(1.0 - f_lo))
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def mu_raise_loads_n(st, tg, a_x, a_y, p):
+    """(upper, lower) bound [N] of the compensating wheel ``tg``'s present load as the ECU knows it: the braking
+    rule's load (``ecu_loads`` at the measured a_x, the blowout transfer of eqs. 3-4) plus / minus the lateral load
+    transfer at a_y (``wheel_load_and_lateral_n``; its sign is not needed for a bound)."""
+    b = int(st[S_BLOWN])
+    f0, f1, f2, f3 = ecu_loads(p, a_x)
+    if b >= 0:
+        d_r = p.body_wheel_radius_m - p.blowout_inner_radius_m
+        f = transfer_n(b, f0, f1, f2, f3, d_r, p.blowout_suspension_rate_front_n_per_m,
+                       p.blowout_suspension_rate_rear_n_per_m)
+        f0, f1, f2, f3 = redistributed_loads(b, f0, f1, f2, f3, f)
+    gl = (f0, f1, f2, f3)
+    fz_a, _ = wheel_load_and_lateral_n(tg, gl[tg], a_y, b, p)
+    d = abs(fz_a - gl[tg])
+    return gl[tg] + d, max(gl[tg] - d, 1.0)
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")

@@ -266,6 +266,24 @@ class SedanBlowoutCompensation(Strict):
     # after a front detection is rejected, while the GMA block of its compensating front is kept, the re-applied
     # (rejected) front's ABS activity does not start the GMA on the compensating front either; 0 = seeded defect
     gma_rejected_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # measured_mu_raise as a guaranteed lower bound: brake force at the pad-fade edge, f(H) against the C_x upper
+    # tolerance, mu*F_z >= 2*F_lo/(1 + sqrt(1 - f_lo)) (Dugoff, spec 2.3), over the present load at the measured a_x
+    # (+ lateral transfer); S_LIN_S reset per plan; 0 = seeded defect (G7's reading: gain 0.82, nominal C_x, plan load)
+    measured_mu_bound_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # an ABS dump of the compensating front under the pedal takes a raise back to the force at the dump's start (upper
+    # pad gain, least load), not below the value before the raise; 0 = seeded defect (a raise kept to the stop's end)
+    measured_mu_lower_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # lowest plant pad friction / nominal the ECU must allow for (hot fade): SAE J866 hot code one letter below the
+    # normal code F (E, 0.25-0.35; SAE J661 fade test) over mu_b 0.38 -> 0.25/0.38 = 0.66 (the envelope's brake_gain 0.7)
+    brake_gain_fade_low_frac: Annotated[float, Field(gt=0, le=1)] = 0.66
+    # relative C_x uncertainty the ECU must allow for (plant longitudinal_stiffness_scale_frac); assumed 0.15
+    longitudinal_stiffness_tolerance_frac: Annotated[float, Field(ge=0, le=1)] = 0.15
+    # braking rule: the compensating front not capped at the measured friction (a lower bound) - ABS limits it, the
+    # yaw gate keeps the balance; an ABS dump's force at the fade gain raises the measured friction; 0 = seeded defect
+    front_abs_limit_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # braking rule: rear pair not capped at the measured friction (a front wheel's lower bound) while ABS is active on
+    # the compensating front - ABS limits the rears, the oversteer caps still apply; 0 = seeded defect (capped)
+    rear_abs_limit_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
