@@ -172,8 +172,12 @@ FRONT_LOW_MU_CASES = [
 @pytest.fixture(scope="module", params=FRONT_LOW_MU_CASES, ids=[c[0] for c in FRONT_LOW_MU_CASES])
 def front_case(request):
     sets = _sets(*request.param[1:])
+    # understeer_persist_flag (session h, H6) lowers the over-compensating outer front on a persisting yaw shortfall
+    # without the capacity evidence, and by itself keeps all four points below none with the capacity rule off (0.47 /
+    # 0.64 / 0.33 / 0.55 m): the negative control is the code before each rule, so it is off here too
     return {"on": _dev(BASE_ON, sets), "off": _dev(BASE_OFF, sets),
-            "defect": _dev(BASE_ON, sets + ["vehicle.blowout_compensation.tire_capacity_flag=0", *RAW])}
+            "defect": _dev(BASE_ON, sets + ["vehicle.blowout_compensation.tire_capacity_flag=0",
+                                            "vehicle.blowout_compensation.understeer_persist_flag=0", *RAW])}
 
 
 def test_front_low_friction_point_no_worse(front_case):
