@@ -1593,7 +1593,9 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
     toward = toward_blown_side(b, yaw_rate)
     p_floor = p_bal  # the floor while the yaw points away from the blown side
     if p.blowout_compensation_braking_lock_floor_flag > 0.5:
-        p_floor = braking_lock_floor(st, tg, p_bal, p_est, p)
+        p_lock = braking_lock_floor(st, tg, p_bal, p_est, p)  # tracks the lock level every period
+        if toward_blown_side(b, r_ref) > p.blowout_compensation_yaw_deadband_radps:
+            p_floor = p_lock  # a curve toward the blown side: its inner front held, not released (blown_front_hold)
     if toward < -p.blowout_compensation_yaw_deadband_radps:
         st[S_P_BRAKE] = p_floor
     elif toward < p.blowout_compensation_yaw_deadband_radps:
@@ -1623,18 +1625,24 @@ def braking_lock_floor(st, tg, p_bal, p_est, p):
     that wheel's lock level (a dump from the slip or the wheel-deceleration threshold, spec 4.3: the brake torque has
     passed what the tire carries); a wheel cannot carry more than that. With the floor at the balance the accumulator
     re-built the wheel after every dump up to the lock level and beyond (the ESP's S_P_PREDUMP ceiling, when it is set at
-    all, IS the lock level), so the outer front sat at its lock: slip 5.5-15 % against the twin's 3.4-7 %, its lateral
-    force 20-40 % lower, and the car yawed away from the blown side beyond the dead band on the compensation's own
-    moment (findings_F.md G8/H3: lead's CMA-ES 2026 -n 200 cluster, FL, r650 toward FL, mu 0.30-0.35). ABS practice is
-    to re-apply after a dump to a fraction of the pressure at which the wheel locked and to increase it gradually from
-    there (GM, Leppek, EP 0 380 882: "reapplies pressure to a significant fraction of the optimal pressure"); here the
+    all, IS the lock level), so the outer front sat at its lock: slip 5.5-15 % against the twin's 3.4-7.7 %, its
+    lateral force up to 40 % lower, and the car yawed away from the blown side beyond the dead band on the
+    compensation's own moment (findings_F.md G8/H3: lead's CMA-ES 2026 -n 200 cluster, FL, r650 toward FL, mu
+    0.30-0.35). ABS practice is to re-apply after a dump to a fraction of the pressure at which the wheel locked and to
+    increase it gradually from there (GM, Leppek, EP 0 380 882: re-apply to "a significant fraction" of that pressure;
+    the fraction is braking_lock_floor_frac, assumed); here the
     re-build stops at that fraction and the wheel is held (the floor is a re-build limit, never a dump: a wheel above
     it is only not re-built) until ABS is quiet on it (no hold or dump for 0.3 s, S_ABS_ACTIVE, spec 4.3): the lock level
     is then forgotten and the floor is the balance again, as ABS forgets it (functions/esp.py build_idle). A dump is
     the ECU's pressure estimate falling by more than 1 bar in one period from at most the balance + 1 bar (the rule
     itself lowers a wheel only from above the balance, functions/esp.py); its start is the level. Only while the yaw
     points away from the blown side (the counter-moment already exceeds the drag): toward it the balance stands (a
-    low, noise-made ceiling there spun the car, findings_F.md Q4 / predump_slip_flag)."""
+    low, noise-made ceiling there spun the car, findings_F.md Q4 / predump_slip_flag). And only in a turn steered
+    toward the blown side (steered reference toward it beyond the dead band, the caller): there the blown INNER front is
+    held at the driver's/ABS level (blown_front_hold), so the balance's premise, a released blown front that only drags,
+    does not hold; on a straight road or with the blown wheel on the outside the paper's release stands and so does its
+    balance (measured, findings_F.md H3: the floor everywhere made 18 of 245 braking front points of session g's
+    searches worse by 0.05-0.40 m, 15 of them straight-road or outer-front points, none a violation; restricted: 3)."""
     p_now = p_est[tg]
     p_prev = st[S_LOCK_PREV]
     if st[S_ABS_ACTIVE + tg] < 0.5:

@@ -259,9 +259,10 @@ class SedanBlowoutCompensation(Strict):
     # braking rule's measured friction raised to the Dugoff capacity inversion of a linear reading (q >= 0.8 at the
     # lower pad gain, no ABS) of the compensating front while the driver brakes; 0 = seeded defect (only ever lowered)
     measured_mu_raise_flag: Annotated[int, Field(ge=0, le=1)] = 1
-    # braking rule, yaw away from the blown side: the compensating front's floor (the drag balance) never above
-    # braking_lock_floor_frac x its pressure at ABS's last dump start (the lock level; re-apply to a fraction of the lock
-    # pressure, EP 0 380 882); forgotten once ABS is quiet on the wheel; 0 = seeded defect (the floor at the balance)
+    # braking rule, turn toward the blown side (its inner front held), yaw away from it: the compensating front's
+    # floor (the drag balance) never above braking_lock_floor_frac x its pressure at ABS's last dump start (the lock
+    # level; re-apply to a fraction of the lock pressure, EP 0 380 882); forgotten once ABS is quiet on the wheel;
+    # 0 = seeded defect (the floor at the balance)
     braking_lock_floor_flag: Annotated[int, Field(ge=0, le=1)] = 1
     braking_lock_floor_frac: Annotated[float, Field(gt=0, le=1)] = 0.8  # assumed: 20 % below the last lock pressure
 
