@@ -10,8 +10,9 @@ Mechanism (before): the braking rule's floor while the yaw points away from the 
 S_P_REQ (56-64 bar, planned at the nominal friction for a released blown front), above the outer front's lock level
 (31-34 bar): the accumulator re-built the right front after every ABS dump to that level (slip 8-10 % vs the twin's
 5-6 %, lateral force 330-360 vs 530-550 N), the car yawed away from FL on the compensation's own moment and the real
-blowout was rejected yaw_implausible (1.765 / 1.46 s). Rule: ``braking_lock_floor_flag`` (the floor never above 0.8 x
-the pressure at ABS's last dump start, functions/blowout_compensation.py ``braking_lock_floor``).
+blowout was rejected yaw_implausible (1.765 / 1.46 s). Rule: ``braking_lock_floor_flag`` (in a turn toward the blown
+front, the floor never above 0.8 x the pressure at ABS's last dump start, functions/blowout_compensation.py
+``braking_lock_floor``).
 
 Requirement: data/requirements/tire_blowout.toml ``no_worse_than_no_compensation`` (tire_blowout.md 9.5; paper 004
 Fig. 4 curve 2): run max lateral deviation with compensation no larger than without. Measured at 4718b3b (flag 0 =
