@@ -314,7 +314,13 @@ S_US_SHORT_S = S_MU_PRE + 1
 # understeer_persist_flag: time [s] the yaw has exceeded the reference toward the blown side beyond the dead band without
 # a break (the restore of a lowering made without capacity evidence waits for the same settling time)
 S_US_OVER_S = S_US_SHORT_S + 1
-STATE_SIZE = S_US_OVER_S + 1
+# braking_lock_floor_flag (``braking_rule``): the compensating front's pressure when ABS last started a dump on it (any
+# dump: the lock level ABS found) [Pa] (-1 none: forgotten once ABS is quiet on the wheel), its pressure estimate of the
+# last period [Pa] (-1 none) and 1 while that estimate is falling (a dump under way, its start already taken)
+S_LOCK_P = S_US_OVER_S + 1
+S_LOCK_PREV = S_LOCK_P + 1
+S_LOCK_FALL = S_LOCK_PREV + 1
+STATE_SIZE = S_LOCK_FALL + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -368,6 +374,8 @@ def initial_state() -> np.ndarray:
     st[S_REAPPLY] = -1.0
     st[S_REAR_OS_CAP] = -1.0
     st[S_MU_PRE] = -1.0
+    st[S_LOCK_P] = -1.0
+    st[S_LOCK_PREV] = -1.0
     return st
 
 
@@ -1603,6 +1611,9 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
     if braking < 0.5 or b < 0 or b >= 2 or tg < 0 or tg >= 2 or not (mode == BUILD or mode == HOLD or mode == LIMITED):
         st[S_P_PREDUMP] = -1.0
         st[S_REAR_OS_CAP] = -1.0
+        st[S_LOCK_P] = -1.0
+        st[S_LOCK_PREV] = -1.0
+        st[S_LOCK_FALL] = 0.0
         return
     mu = st[S_MU_MEAS] if st[S_MU_MEAS] > 0.0 else p.blowout_compensation_mu_estimate_frac
     f0, f1, f2, f3 = ecu_loads(p, a_x)
@@ -1628,10 +1639,15 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
         p_circle = 1.0e9
     p_full = max(p_bal, min(p_bal + p.blowout_compensation_braking_share_frac * max(p_mc, 0.0), p_circle))
     toward = toward_blown_side(b, yaw_rate)
+    p_floor = p_bal  # the floor while the yaw points away from the blown side
+    if p.blowout_compensation_braking_lock_floor_flag > 0.5:
+        p_lock = braking_lock_floor(st, tg, p_bal, p_est, p)  # tracks the lock level every period
+        if toward_blown_side(b, r_ref) > p.blowout_compensation_yaw_deadband_radps:
+            p_floor = p_lock  # a curve toward the blown side: its inner front held, not released (blown_front_hold)
     if toward < -p.blowout_compensation_yaw_deadband_radps:
-        st[S_P_BRAKE] = p_bal
+        st[S_P_BRAKE] = p_floor
     elif toward < p.blowout_compensation_yaw_deadband_radps:
-        st[S_P_BRAKE] = min(max(p_est[tg], p_bal), p_full) if toward < 0.0 else p_full
+        st[S_P_BRAKE] = min(max(p_est[tg], p_floor), p_full) if toward < 0.0 else p_full
     else:
         st[S_P_BRAKE] = p_full
     if st[S_MU_MEAS] > 0.0:
@@ -1650,6 +1666,53 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
             st[S_REAR_CAP] = -1.0
     if p.blowout_compensation_rear_oversteer_flag > 0.5:
         rear_oversteer_cap(st, b, yaw_rate, p_est, p, r_ref, mode)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def braking_lock_floor(st, tg, p_bal, p_est, p):
+    """The braking rule's floor for the compensating FRONT wheel while the yaw points away from the blown side
+    (``braking_lock_floor_flag``, 0 = seeded defect = the drag balance S_P_REQ whatever ABS found): the balance, but
+    never above ``braking_lock_floor_frac`` x the wheel's pressure when ABS last started a dump on it (S_LOCK_P).
+
+    Why: the balance p_w of eqs. 26-28 is planned at the ECU's nominal friction for a RELEASED blown front (it only
+    drags); on a wet road the compensating front reaches its lock level below it, and with the blown inner front held
+    at the driver's/ABS level (blown_front_hold_flag) the drag it balances is not there. ABS's dump IS the measurement of
+    that wheel's lock level (a dump from the slip or the wheel-deceleration threshold, spec 4.3: the brake torque has
+    passed what the tire carries); a wheel cannot carry more than that. With the floor at the balance the accumulator
+    re-built the wheel after every dump up to the lock level and beyond (the ESP's S_P_PREDUMP ceiling, when it is set at
+    all, IS the lock level), so the outer front sat at its lock: slip 5.5-15 % against the twin's 3.4-7.7 %, its
+    lateral force up to 40 % lower, and the car yawed away from the blown side beyond the dead band on the
+    compensation's own moment (findings_F.md G8/H3: lead's CMA-ES 2026 -n 200 cluster, FL, r650 toward FL, mu
+    0.30-0.35). ABS practice is to re-apply after a dump to a fraction of the pressure at which the wheel locked and to
+    increase it gradually from there (GM, Leppek, EP 0 380 882: re-apply to "a significant fraction" of that pressure;
+    the fraction is braking_lock_floor_frac, assumed); here the
+    re-build stops at that fraction and the wheel is held (the floor is a re-build limit, never a dump: a wheel above
+    it is only not re-built) until ABS is quiet on it (no hold or dump for 0.3 s, S_ABS_ACTIVE, spec 4.3): the lock level
+    is then forgotten and the floor is the balance again, as ABS forgets it (functions/esp.py build_idle). A dump is
+    the ECU's pressure estimate falling by more than 1 bar in one period from at most the balance + 1 bar (the rule
+    itself lowers a wheel only from above the balance, functions/esp.py); its start is the level. Only while the yaw
+    points away from the blown side (the counter-moment already exceeds the drag): toward it the balance stands (a
+    low, noise-made ceiling there spun the car, findings_F.md Q4 / predump_slip_flag). And only in a turn steered
+    toward the blown side (steered reference toward it beyond the dead band, the caller): there the blown INNER front is
+    held at the driver's/ABS level (blown_front_hold), so the balance's premise, a released blown front that only drags,
+    does not hold; on a straight road or with the blown wheel on the outside the paper's release stands and so does its
+    balance (measured, findings_F.md H3: the floor everywhere made 18 of 245 braking front points of session g's
+    searches worse by 0.05-0.40 m, 15 of them straight-road or outer-front points, none a violation; restricted: 3)."""
+    p_now = p_est[tg]
+    p_prev = st[S_LOCK_PREV]
+    if st[S_ABS_ACTIVE + tg] < 0.5:
+        st[S_LOCK_P] = -1.0
+        st[S_LOCK_FALL] = 0.0
+    elif (p_prev >= 0.0 and p_now < p_prev - 1.0e5 and st[S_LOCK_FALL] < 0.5
+          and p_prev <= st[S_P_REQ] + 1.0e5):
+        st[S_LOCK_P] = p_prev  # a dump starts: the lock level ABS found
+        st[S_LOCK_FALL] = 1.0
+    elif p_now >= p_prev:
+        st[S_LOCK_FALL] = 0.0
+    st[S_LOCK_PREV] = p_now
+    if st[S_LOCK_P] > 0.0:
+        return min(p_bal, p.blowout_compensation_braking_lock_floor_frac * st[S_LOCK_P])
+    return p_bal
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")

@@ -285,6 +285,12 @@ class SedanBlowoutCompensation(Strict):
     # braking rule: rear pair not capped at the measured friction (a front wheel's lower bound) while ABS is active on
     # the compensating front - ABS limits the rears, the oversteer caps still apply; 0 = seeded defect (capped)
     rear_abs_limit_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # braking rule, turn toward the blown side (its inner front held), yaw away from it: the compensating front's
+    # floor (the drag balance) never above braking_lock_floor_frac x its pressure at ABS's last dump start (the lock
+    # level; re-apply to a fraction of the lock pressure, EP 0 380 882); forgotten once ABS is quiet on the wheel;
+    # 0 = seeded defect (the floor at the balance)
+    braking_lock_floor_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    braking_lock_floor_frac: Annotated[float, Field(gt=0, le=1)] = 0.8  # assumed: 20 % below the last lock pressure
 
     @model_validator(mode="after")
     def _order(self):

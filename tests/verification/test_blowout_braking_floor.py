@@ -1,0 +1,85 @@
+"""Front-left blowout, driver braking at the ABS limit, 650 m curve toward the flat front on a wet road (issue #10;
+docs/functions/tire_blowout.md "Status at the end of session 2026-11-24 g" item 1; findings_F.md G8 and H3).
+
+Points: the lead's CMA-ES seed 2026, budget 200, --keep-going on data/envelopes/tire_blowout.toml (main 7242b18),
+#108 and #172 - two of the cluster's 9 violations whose uncompensated twin has no ABS reference-speed runaway (status
+item 2: a twin whose reference runs away stops braking and is flattered; these twins' reference stays within 0.3 m/s of
+the car's speed).
+
+Mechanism (before): the braking rule's floor while the yaw points away from the blown side was the drag balance
+S_P_REQ (56-64 bar, planned at the nominal friction for a released blown front), above the outer front's lock level
+(31-34 bar): the accumulator re-built the right front after every ABS dump to that level (slip 8-10 % vs the twin's
+5-6 %, lateral force 330-360 vs 530-550 N), the car yawed away from FL on the compensation's own moment and the real
+blowout was rejected yaw_implausible (1.765 / 1.46 s). Rule: ``braking_lock_floor_flag`` (in a turn toward the blown
+front, the floor never above 0.8 x the pressure at ABS's last dump start, functions/blowout_compensation.py
+``braking_lock_floor``).
+
+Requirement: data/requirements/tire_blowout.toml ``no_worse_than_no_compensation`` (tire_blowout.md 9.5; paper 004
+Fig. 4 curve 2): run max lateral deviation with compensation no larger than without. Measured at 4718b3b (flag 0 =
+the code before): #108 1.609 m, #172 0.962 m vs none 1.359 / 0.582 m; with the rule 0.911 / 0.449 m.
+
+Can fail: with the seeded defect ``braking_lock_floor_flag = 0`` both requirement checks and the rejection check fail
+(negative controls below)."""
+from __future__ import annotations
+
+import pytest
+
+from tests.support import envelope_point_run
+from vehicle_assist.verification.envelope import load_envelope
+
+METRIC = "blowout_lateral_deviation_run_max_m"
+DEFECT = "vehicle.blowout_compensation.braking_lock_floor_flag=0"
+# CMA-ES 2026 b200 #108: FL 120.0 km/h, mu scale 0.311, light pedal (level 0.065) from t_b + 0.59 s
+P108 = {"speed": 119.97639926418293, "mu": 0.3105637739787051, "delay": 0.13978939571706286,
+        "wheel_speed_noise": 0.26340556817015165, "noise_seed": 7734.0, "brake_gain": 1.0262070878335061,
+        "brake.start_s": 0.5911892955350573, "brake.level_frac": 0.06482835714630186,
+        "brake.rate_per_s": 6.39700210497562, "braking": "brakes", "wheel": "fl", "driver": "follow", "curve": "r650"}
+# CMA-ES 2026 b200 #172: FL 106.9 km/h, mu scale 0.305, pedal level 0.253 from t_b + 0.74 s
+P172 = {"speed": 106.9073124674854, "mu": 0.3050953113106001, "delay": 0.021285495090965036,
+        "wheel_speed_noise": 0.245371695184346, "noise_seed": 4420.0, "brake_gain": 0.9612437322936138,
+        "brake.start_s": 0.7388400823607393, "brake.level_frac": 0.25298126283610256,
+        "brake.rate_per_s": 6.369041711991577, "braking": "brakes", "wheel": "fl", "driver": "follow", "curve": "r650"}
+POINTS = {"cma2026_108": P108, "cma2026_172": P172}
+
+
+@pytest.fixture(scope="module")
+def env():
+    return load_envelope("tire_blowout")
+
+
+@pytest.fixture(scope="module")
+def runs(env):
+    out = {}
+    for name, pt in POINTS.items():
+        out[name] = {"on": envelope_point_run(env, pt), "off": envelope_point_run(env, pt, baseline=True),
+                     "defect": envelope_point_run(env, pt, sets=[DEFECT])}
+    return out
+
+
+def _rejected_yaw(run) -> bool:
+    return any(e.machine == "blowout_compensation" and e.to_mode == "REJECTED" and e.reason == "yaw_implausible"
+               for e in run.events)
+
+
+@pytest.mark.parametrize("name", sorted(POINTS))
+def test_no_worse_than_no_compensation(runs, name):
+    """no_worse_than_no_compensation at the cluster point (0.911 / 0.449 m vs none 1.359 / 0.582 m)."""
+    r = runs[name]
+    assert r["on"].metrics[METRIC] <= r["off"].metrics[METRIC]
+
+
+@pytest.mark.parametrize("name", sorted(POINTS))
+def test_worse_than_no_compensation_with_the_defect(runs, name):
+    """Negative control: the floor at the balance (flag 0, the code before) is worse than none (1.609 / 0.962 m)."""
+    r = runs[name]
+    assert r["defect"].metrics[METRIC] > r["off"].metrics[METRIC]
+
+
+@pytest.mark.parametrize("name", sorted(POINTS))
+def test_real_blowout_not_rejected_as_implausible(runs, name):
+    """The wheel IS blown (plant truth, FL deflated from t_b): the yaw away from it that rejected the detection was the
+    compensation's own over-braked outer front. With the rule the detection stands; the negative control (flag 0) is
+    rejected yaw_implausible (1.765 / 1.46 s)."""
+    r = runs[name]
+    assert not _rejected_yaw(r["on"])
+    assert _rejected_yaw(r["defect"])
