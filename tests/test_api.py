@@ -7,6 +7,7 @@ import json
 import os
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import vehicle_assist as va
@@ -74,3 +75,26 @@ def test_import_sets_no_openblas_and_prunes_nothing(tmp_path):
     from vehicle_assist import _cache
 
     assert _cache.KEEP == 4
+
+
+def test_prune_keeps_versions_other_checkouts_use(tmp_path):
+    """Two checkouts (git worktrees) run from different source versions at once: a run's prune must not delete a
+    version another process used recently (it crashed that process mid-compile), only long-idle ones beyond KEEP."""
+    cache = tmp_path / "cache"
+    parent = cache / "vehicle-assist" / "numba"
+    now = time.time()
+    recent = [parent / f"recent{k}" for k in range(6)]  # more than KEEP, all in use within the last minutes
+    idle = [parent / f"idle{k}" for k in range(3)]  # last used two days ago
+    for k, d in enumerate(recent):
+        d.mkdir(parents=True)
+        os.utime(d, (now - 60 * (k + 1), now - 60 * (k + 1)))
+    for k, d in enumerate(idle):
+        d.mkdir(parents=True)
+        os.utime(d, (now - 2 * 86400 - k, now - 2 * 86400 - k))
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    env["XDG_CACHE_HOME"] = str(cache)
+    code = "import vehicle_assist; from vehicle_assist import _cache; _cache.prune_stale()"
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert all(d.is_dir() for d in recent), [d.name for d in recent if not d.is_dir()]
+    assert not any(d.is_dir() for d in idle)

@@ -14,9 +14,14 @@ import os
 import shutil
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 KEEP = 4  # older source versions kept besides the current one
+# a version used (its directory touched) within this time is never deleted, whatever KEEP says: other checkouts of the
+# package (git worktrees, a second venv) run from their own versions at the same time, and deleting a directory numba is
+# compiling into or loading from crashes that process. Assumed: one day; a run starts by touching its own version.
+MIN_IDLE_S = 86400.0
 
 
 def source_digest() -> str:
@@ -64,8 +69,9 @@ _pruned = False
 
 
 def prune_stale() -> None:
-    """Delete all but the ``KEEP`` newest older source versions of the cache (once per process; called when a
-    run or batch starts, never at import). Only under the package's own cache parent directory."""
+    """Delete all but the ``KEEP`` newest older source versions of the cache that have not been used for
+    ``MIN_IDLE_S`` (once per process; called when a run or batch starts, never at import). Only under the package's own
+    cache parent directory."""
     global _pruned
     if _pruned:
         return
@@ -75,10 +81,14 @@ def prune_stale() -> None:
     try:
         if not parent.is_dir():
             return
+        if current and os.path.isdir(current):
+            os.utime(current)  # this version is in use: other processes' prune must leave it alone
+        now = time.time()
         old = sorted((d for d in parent.iterdir() if d.is_dir() and str(d) != current),
                      key=lambda d: d.stat().st_mtime, reverse=True)
         for stale in old[KEEP:]:
-            shutil.rmtree(stale, ignore_errors=True)
+            if now - stale.stat().st_mtime >= MIN_IDLE_S:
+                shutil.rmtree(stale, ignore_errors=True)
     except OSError:
         pass
 
