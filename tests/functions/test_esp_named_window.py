@@ -12,8 +12,10 @@ the detection (paper 004 P7, spec tire_blowout.md 5).
 References, independent of the code: the valve states of the ESP unit that mean "pump-served" (brake_assist.md P6:
 switching valve closed, high-pressure valve open, return pump on = wheel modes B/BP; the isolated hold HI) and the
 requirement tire_blowout.no_worse_than_no_compensation (the no-compensation twin). The valve rows fail with the seeded
-defect ``hba_named_driver_flag = 0`` (the code before). The never-worse rows are strict xfails: the rule does not
-close status item 4 (G8's CMA-ES 2026 #168 1.815 -> 1.571 m, the twin 1.368 m; findings_F.md "H5 (session h)")."""
+defect ``hba_named_driver_flag = 0`` (the code before, which is also the shipped default: the rule is a candidate
+NOT enabled - it moves violations instead of removing them, findings_F.md "H5 (session h)"; the rule rows set it to
+1). The never-worse row is a strict xfail: the rule does not close status item 4 (G8's CMA-ES 2026 #168 1.815 -> 1.571
+m, the twin 1.368 m)."""
 from __future__ import annotations
 
 import numpy as np
@@ -24,7 +26,8 @@ from tests.support import envelope_point_metric
 from vehicle_assist.verification.envelope import load_envelope
 
 METRIC = "blowout_lateral_deviation_run_max_m"
-DEFECT = ("vehicle.esp.hba_named_driver_flag=0",)
+RULE = ("vehicle.esp.hba_named_driver_flag=1",)  # the candidate (not enabled in the shipped toml)
+DEFECT = ("vehicle.esp.hba_named_driver_flag=0",)  # the code before = the shipped default
 TPMS_ALARM_DROP_FRAC = 0.25  # FMVSS 138 low-pressure warning (suv_bj2500.toml blowout.tpms_alarm_drop_frac source)
 # wheel valve modes of the ESP unit (plant/brakes/esp_unit.py MODES order): N B HI H D BP BPM T
 PUMP_SERVED = (1, 2, 5)  # B (pump build), HI (hold, circuit isolated), BP (pulsed pump build)
@@ -63,7 +66,7 @@ def _named_window_modes(env, point, sets):
 
 
 @pytest.mark.parametrize("name", sorted(POINTS))
-@pytest.mark.parametrize("sets,pumped", [((), False), (DEFECT, True)])
+@pytest.mark.parametrize("sets,pumped", [(RULE, False), (DEFECT, True)])
 def test_named_wheel_not_pump_served_before_detection(env, name, sets, pumped):
     """While only named (compensation idle, HBA active) the named wheel is never in a pump-served valve mode; the
     defect row (the code before) is its negative control: the named FL is re-built by the pump (BP) there."""
@@ -76,5 +79,5 @@ def test_named_wheel_not_pump_served_before_detection(env, name, sets, pumped):
                    "compensation (1.815 m before); the intact FR's pump re-build and the yaw-implausible rejection at "
                    "1.345 s are not the named wheel's (findings_F.md H5)")
 def test_g8_168_no_worse_than_none(env):
-    on = envelope_point_metric(env, C2026_168, METRIC)
+    on = envelope_point_metric(env, C2026_168, METRIC, sets=RULE)
     assert on <= envelope_point_metric(env, C2026_168, METRIC, baseline=True), f"{on:.3f} m"

@@ -554,10 +554,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # periphery, the slip ABS reads is short by (R_out - R_eff)/R_eff and the pump has no valid limit on it;
             # and the function's own sequence (paper 004 P7, spec 5) starts at the detection and gives the blown
             # wheel no pressure - pumping it above the driver before the detection works against it. Once detected
-            # the compensation's arbitration governs the wheel, as before. Status item 4 (session h, H5): it changes
-            # the named wheel's re-build source (master, not pump), not its level - the named window's losses at G5
-            # #106 / G8 #168 / G6 #58 are mostly the twin's (its reference rides the flat wheel and it hardly brakes);
-            # 1,053 pedal points of 15 searches: net -1.4 m, violations equal in count (findings_F.md "H5").
+            # the compensation's arbitration governs the wheel, as before. Status item 4 (session h, H5): NOT enabled
+            # (toml 0): it changes the named wheel's re-build source (master, not pump), not its level; on 1,053 pedal
+            # evaluations of 15 searches net -0.44 m with equal violation counts, but it MOVES violations (CMA-ES 2026
+            # #196 fixed / #176 new; false-alarm grid k=664 fixed / k=663 new) - findings_F.md "H5 (session h)".
             row = A_DRIVER
         req = int(wheels[i, A_REQUEST])
         if (row == A_DRIVER and i == gma_wheel and blown < 0 and p.esp_gma_follow_flag > 0.5
