@@ -496,8 +496,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     # limit (slip beyond the hold threshold with a hold or dump) while the driver's pressure is more than 1 bar above
     # the wheel's - the driver alone reaches the ABS level. A SRC_DRIVER circuit (one switching valve, so its rear
     # wheel too) uses row A_DRIVER: plain ABS on the driver's pressure, as without HBA.
-    # (hba_named_driver_flag) a wheel only NAMED by the TPMS, not detected (the compensation idle)
-    named_driver = (p.esp_hba_named_driver_flag > 0.5 and blown >= 0 and int(bst[bc.S_BLOWN]) < 0)
+    # (hba_named_driver_flag) a wheel only NAMED by the TPMS, not (yet) detected: the compensation IDLE - not after a
+    # rejection (a rejected false alarm stays named: acting there moved the false-alarm grid's lane exit k=664 -> k=663)
+    named_driver = (p.esp_hba_named_driver_flag > 0.5 and blown >= 0 and int(bst[bc.S_BLOWN]) < 0
+                    and int(bst[bc.S_MODE]) == bc.IDLE)
     for i in range(2):
         c = CIRCUIT[i]
         if hba_mode == hba.INACTIVE:
