@@ -558,8 +558,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # wheel no pressure - pumping it above the driver before the detection works against it. Once detected
             # the compensation's arbitration governs the wheel, as before. Status item 4 (session h, H5): NOT enabled
             # (toml 0): it changes the named wheel's re-build source (master, not pump), not its level; on 1,053 pedal
-            # evaluations of 15 searches net -0.44 m with equal violation counts, but it MOVES violations (CMA-ES 2026
-            # #196 fixed / #176 new; false-alarm grid k=664 fixed / k=663 new) - findings_F.md "H5 (session h)".
+            # evaluations of 15 searches net -0.44 m with equal violation counts, but it MOVES a violation (CMA-ES 2026
+            # #196 fixed / #176 new, a knife edge) - findings_F.md "H5 (session h)".
             row = A_DRIVER
         req = int(wheels[i, A_REQUEST])
         if (row == A_DRIVER and i == gma_wheel and blown < 0 and p.esp_gma_follow_flag > 0.5
