@@ -126,6 +126,9 @@ class SedanEsp(Strict):
     hba_rear_select_low_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = old: rears pumped with their circuit's front
     # select-low also while a wheel is only TPMS-named (compensation idle); 0 = seeded defect (off for any excluded wheel)
     hba_rear_select_low_tpms_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # 1 = the TPMS-named wheel kept on the driver's pressure under HBA before the detection - a candidate NOT enabled
+    # (it moves a violation, findings_F.md H5); 0 = the code before (shipped)
+    hba_named_driver_flag: Annotated[int, Field(ge=0, le=1)] = 0
     hba_master_rebuild_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: pump re-build undecided)
     hba_rampout_pumped_only_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: ramp-out unpumped)
     abs_signal_filter_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (#10 F2: raw-differenced wheel decel)
