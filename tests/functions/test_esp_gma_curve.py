@@ -14,6 +14,10 @@ Reference (independent of the code's numbers):
 * the limitation's own thresholds (hold 2, dump 5 deg/s toward the delayed front's side: data/vehicles, esp table).
 A 200 m curve at 80 km/h has 6.4 deg/s of yaw - above the dump threshold - all of it asked for by the steering.
 
+SHIPPED OFF (vehicle files: gma_yaw_reference_flag = 0, the code before): enabling it cost never-worse points on the
+tire_blowout envelope (findings_F.md H7); the rule's tests set the flag to 1 explicitly, and the last test of each pair
+shows the code before fails the same check.
+
 Can fail: with the defect (flag 0 = the code before, raw yaw rate) the outer front's ABS starting the GMA on the inner
 front in that curve dumps the inner front every period (the H2 mechanism: false-alarm CMA 2026 #25, FL 29.9 -> 15.8 bar
 on the curve's own yaw, the car turned out of the curve). Whole run (isolated from H2's gma_rejected_flag, which stops
@@ -76,7 +80,7 @@ def _gma_requests(p, left_curve: bool, extra_yaw_radps: float = 0.0, periods: in
 
 def test_curve_yaw_is_above_the_dump_threshold():
     """The case is the defect's: the curve's own yaw rate exceeds the limitation's dump threshold."""
-    p = _params("blowout_lf_80kph_curve")
+    p = _params("blowout_lf_80kph_curve", 1)
     assert V_MPS / RADIUS_M > p.esp_yaw_dump_rate_radps
 
 
@@ -84,7 +88,7 @@ def test_curve_yaw_is_above_the_dump_threshold():
 @pytest.mark.parametrize("left_curve", [True, False])
 def test_curve_yaw_does_not_dump_the_gma_wheel(scenario, left_curve):
     """Steady curve, yaw = what the steering asks for: the GMA delays (pulses) the inner front, never dumps it."""
-    reqs = _gma_requests(_params(scenario), left_curve)
+    reqs = _gma_requests(_params(scenario, 1), left_curve)
     assert esp.R_DUMP not in reqs, reqs
     assert esp.R_GMA_PULSE in reqs, reqs  # the delay itself still acts
 
@@ -92,7 +96,7 @@ def test_curve_yaw_does_not_dump_the_gma_wheel(scenario, left_curve):
 @pytest.mark.parametrize("left_curve", [True, False])
 def test_yaw_beyond_the_reference_still_dumps(left_curve):
     """The limitation stays: 6 deg/s toward the delayed front's side beyond the steered reference dumps it."""
-    reqs = _gma_requests(_params("blowout_lf_80kph_curve"), left_curve, extra_yaw_radps=6.0 * DEG)
+    reqs = _gma_requests(_params("blowout_lf_80kph_curve", 1), left_curve, extra_yaw_radps=6.0 * DEG)
     assert all(r == esp.R_DUMP for r in reqs), reqs
 
 
@@ -101,3 +105,28 @@ def test_seeded_defect_dumps_on_the_curve_yaw(left_curve):
     """flag 0 (the code before: raw yaw rate): the curve's yaw dumps the inner front every period."""
     reqs = _gma_requests(_params("blowout_lf_80kph_curve", 0), left_curve)
     assert all(r == esp.R_DUMP for r in reqs), reqs
+
+
+# Whole run: false-alarm CMA-ES 2026 #25 (H2's point, tests/verification/test_blowout_false_alarm_envelope.py), with
+# gma_rejected_flag 0 so the GMA does start on FL after the rejection (H2's mechanism) and only this rule acts.
+# Bound: the lane (JTG B01-2014 3.75 m lane, BJ2500 width), as that file; the car without the function: 0.346 m.
+@pytest.fixture(scope="module")
+def cma25_runs():
+    from tests.verification.test_blowout_false_alarm_envelope import CMA25, DEV, GMA_REJECTED_OFF, LANE_BOUND_M
+    from vehicle_assist.verification.envelope import load_envelope
+    env = load_envelope("tire_blowout_false_alarm")
+
+    def dev(*sets):
+        return va.simulate(env.scenario(CMA25).with_sets(GMA_REJECTED_OFF, *sets), requirements=False).metrics[DEV]
+    return {"rule": dev("vehicle.esp.gma_yaw_reference_flag=1"), "defect": dev("vehicle.esp.gma_yaw_reference_flag=0"),
+            "bound": LANE_BOUND_M}
+
+
+def test_cma25_gma_on_the_curve_yaw_stays_in_lane(cma25_runs):
+    """The GMA started on FL by the re-applied FR no longer dumps FL on the curve's own yaw: in the lane (0.638 m)."""
+    assert cma25_runs["rule"] <= cma25_runs["bound"], cma25_runs
+
+
+def test_cma25_seeded_defect_leaves_the_lane(cma25_runs):
+    """flag 0 (raw yaw rate): FL dumped 29.9 -> 15.8 bar against FR's 45.7 bar, out of the lane (2.131 m)."""
+    assert cma25_runs["defect"] > cma25_runs["bound"], cma25_runs
