@@ -461,6 +461,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     # reference (reference_yaw_rate of the measured steer angle and v_ref), not the raw yaw rate: a curve's own yaw is
     # what the driver asks for, not the split-mu brake-force difference's (H2: in a 650 m left curve at 107 km/h the
     # raw ~5 deg/s dumped FL 29.9 -> 15.8 bar and held it ~1 s against FR at 45.7 bar, turning the car out of the curve)
+    # Shipped 0 (the raw yaw rate): on the tire-blowout envelope it cost never-worse points (findings_F.md H7).
     yaw_dev = meas.yaw_rate_radps
     if p.esp_gma_yaw_reference_flag > 0.5:
         yaw_dev = meas.yaw_rate_radps - bc.reference_yaw_rate(meas.steering_angle_rad, v_ref, p)
