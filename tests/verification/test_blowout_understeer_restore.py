@@ -7,7 +7,7 @@ steering reference for the settling time). As the car slows, the reference curva
 wheel rises above the lane's 1/R (understeer gradient K > 0): after the lowering the yaw sat 0.012-0.018 rad/s above the
 reference - inside the 1 deg/s (0.0175 rad/s) dead band, where the lowered target was held - and ~0.02 rad/s above the
 lane's u/R for ~2 s. The car turned into the inside of the curve: +0.68 m at 5 s (the shipped run's end) and still
-rising, 1.009 m at standstill - across the lane line - against 0.606 m before H6's rule. Rule: the lowering is taken back
+rising, 1.009 m at standstill - across the lane line - against 0.606 m before H6's rule. Rule: the lowering is undone
 on the mirror evidence, the yaw above the reference (no dead band) for the same settling time.
 
 Requirement: data/requirements/tire_blowout.toml ``stay_in_lane`` (|lane offset| <= 0.978 m = (3.75 m lane, JTG B01-2014
@@ -64,7 +64,7 @@ def _state(flag):
 
 
 def _run(bc, st, p, seconds, yaw, r_ref=0.1, v=100.0 / 3.6, dt=0.005):
-    """HOLD on FR for a blown FL, no pedal, no capacity evidence; returns the first time the lowering ends (-1 never)."""
+    """HOLD on FR for a blown FL, no pedal, no capacity evidence; the first time the lowering ends (-1 never)."""
     p_est = np.array([0.0, 40.0e5, 0.0, 0.0])
     req = np.zeros(4, dtype=np.int64)
     ended = -1.0
