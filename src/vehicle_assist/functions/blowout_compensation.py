@@ -1518,7 +1518,10 @@ def understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, reque
     the persistence alone is restored only once the yaw has exceeded the reference by the dead band for the same time
     (S_US_OVER_S: restored on the first overshoot sample, FR was re-built 0.2 s after the lowering and #66 stayed at
     1.24 m). Shipped blowout_lf_80kph_curve (fixed steering): 3-s deviation 0.460 -> 0.312 m, run max 0.581 -> 0.680 m
-    (none 6.63); its checks unchanged."""
+    (none 6.63); its checks unchanged. ``understeer_restore_settled_flag`` (0 = seeded defect = restored only beyond the
+    dead band): that restore's evidence is the yaw above the reference without the dead band for the settling time -
+    inside the dead band lf80's lowering was held while the car turned 0.02 rad/s more than the lane (1.009 m at
+    standstill, out of the lane; with it 0.153 m, run max 0.059 m; findings_F.md RH2)."""
     if b < 0 or b >= 2 or tg != OPPOSITE[b] or mode != HOLD or braking > 0.5:
         st[S_US_SHORT_S] = 0.0  # (understeer_persist_flag) the shortfall is timed in HOLD without the pedal only
         st[S_US_OVER_S] = 0.0
