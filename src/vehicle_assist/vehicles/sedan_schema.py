@@ -284,6 +284,10 @@ class SedanBlowoutCompensation(Strict):
     # braking rule: rear pair not capped at the measured friction (a front wheel's lower bound) while ABS is active on
     # the compensating front - ABS limits the rears, the oversteer caps still apply; 0 = seeded defect (capped)
     rear_abs_limit_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # front_abs_limit_flag's dump reading as a lower bound: the friction circle with the force at the dump's start
+    # (fade gain, less the wheel's spin-down J*a_w/R then), not Dugoff's 2/(1 + sqrt(1 - f)) with the slip of a later
+    # window; 0 = seeded defect (H1's reading: up to 1.57 x the true mu)
+    abs_dump_bound_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
