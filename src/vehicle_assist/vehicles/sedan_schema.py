@@ -266,6 +266,9 @@ class SedanBlowoutCompensation(Strict):
     # after a front detection is rejected, while the GMA block of its compensating front is kept, the re-applied
     # (rejected) front's ABS activity does not start the GMA on the compensating front either; 0 = seeded defect
     gma_rejected_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # gma_rejected_flag not when the GMA on the compensating front had run before the detection (ended by
+    # gma_blown_front_flag): that split-mu evidence was not the function's doing; 0 = seeded defect (H2: ignored always)
+    gma_rejected_pre_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # measured_mu_raise as a guaranteed lower bound: brake force at the pad-fade edge, f(H) against the C_x upper
     # tolerance, mu*F_z >= 2*F_lo/(1 + sqrt(1 - f_lo)) (Dugoff, spec 2.3), over the present load at the measured a_x
     # (+ lateral transfer); S_LIN_S reset per plan; 0 = seeded defect (G7's reading: gain 0.82, nominal C_x, plan load)
