@@ -259,3 +259,53 @@ def test_rear_pair_left_to_abs_while_the_front_is_at_its_abs_limit(params):
     assert rear_cap(None, True) == -1.0
     assert rear_cap(None, False) > 0.0
     assert rear_cap(_params(REARLIM0), True) > 0.0
+
+
+# --- review RH1 (session h): the dump reading with the lock's deceleration and a later window -------------------------
+DUMP0 = "vehicle.blowout_compensation.abs_dump_bound_flag=0"
+DUMP_GRID = list(itertools.product(
+    (0.3, 0.45, 0.7, 0.95),          # true road friction
+    (0.7, 1.0, 1.2),                 # plant pad friction / nominal (envelope brake_gain 0.7-1.2)
+    (0.85, 1.0, 1.15),               # plant C_x / nominal
+    (0.06, 0.1, 0.2),                # slip at the dump's start
+    (0.015, 0.03, 0.06),             # slip in the window while ABS holds / re-builds (the wheel recovered)
+    (30.0, 60.0),                    # wheel deceleration at the dump's start [m/s^2] (ABS dump threshold 30)
+))
+
+
+def dump_scan(p):
+    """(worst raised/true ratio, its case): ABS dumped the compensating front while it locked - at the dump's start
+    the wheel slips s_d and spins down at a_w (J*omega_dot = F_x*R - T_b: the pressure held the force F_x(s_d) AND
+    the spin-down), the ECU stored that pressure and a_w; the window now shows the wheel recovered to s_now at a
+    third of the pressure. Whatever the window reads, F_x(s_d) <= mu*F_z is all the dump proves."""
+    from vehicle_assist.functions import blowout_compensation as bc
+
+    worst, arg = 0.0, None
+    v = 25.0
+    ca = p.tires_cornering_stiffness_front_n_per_rad / 2.0
+    r, j, k = p.body_wheel_radius_m, p.body_wheel_inertia_kgm2, p.brakes_front_gain_nm_per_pa
+    for mu, gs, kc, s_d, s_now, a_w in DUMP_GRID:
+        a_x = -0.8 * mu * G
+        fz = true_front_load(p, a_x, 0.0)
+        fx = dugoff_fx(mu, fz, s_d, 0.0, p.tires_longitudinal_stiffness_n * kc, ca)
+        pr = (fx * r + j * a_w / r) / (k * gs)
+        st, p_est, vw = ecu_state(p, 0.01, 0.3 * pr, v, s_now, a_x, abs_active=True, predump=pr)
+        st[bc.S_AW_PREDUMP] = a_w
+        ratio = run_rule(p, st, p_est, vw, v, a_x, n=1) / mu
+        if ratio > worst:
+            worst, arg = ratio, (mu, gs, kc, s_d, s_now, a_w)
+    return worst, arg
+
+
+def test_abs_dump_raise_at_the_lock_never_exceeds_the_true_mu(params):
+    """abs_dump_bound_flag: the raise from an ABS dump (front_abs_limit_flag) with the lock's spin-down and a later,
+    recovered window - never above the true mu (648 cases)."""
+    worst, arg = dump_scan(params)
+    assert worst <= 1.0 + 1e-9, f"raised {worst:.3f} x the true mu at (mu, gain, C_x, s_d, s_now, a_w) = {arg}"
+
+
+def test_abs_dump_raise_over_states_with_h1_reading():
+    """Negative control: H1's dump reading (abs_dump_bound_flag = 0: Dugoff factor from the present window's slip,
+    the present wheel acceleration) over-states the friction on this scan (measured 1.57 x)."""
+    worst, arg = dump_scan(_params(DUMP0))
+    assert worst > 1.2, (worst, arg)

@@ -320,7 +320,10 @@ S_US_OVER_S = S_US_SHORT_S + 1
 S_LOCK_P = S_US_OVER_S + 1
 S_LOCK_PREV = S_LOCK_P + 1
 S_LOCK_FALL = S_LOCK_PREV + 1
-STATE_SIZE = S_LOCK_FALL + 1
+# abs_dump_bound_flag: the compensating wheel's measured deceleration [m/s^2, wheel circumference, > 0 = slowing] at
+# the start of the ABS dump that set S_P_PREDUMP (functions/esp.py writes both at the same period)
+S_AW_PREDUMP = S_LOCK_FALL + 1
+STATE_SIZE = S_AW_PREDUMP + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -1990,7 +1993,17 @@ def measured_mu_raise(st, tg, v_ref, braking, p_est, gain, p, dt, a_x=0.0, a_y=0
                 and st[S_P_PREDUMP] > 0.0):
             # (front_abs_limit_flag) ABS found the wheel's limit: the force at the dump's start at the fade edge of
             # the pad gain, with the wheel's deceleration, is a lower bound of mu*F_z (friction circle, spec 2.3)
-            mu_dump = mu_lower_bound(st[S_P_PREDUMP], v_m, min(wdot, 0.0), v_s, gain, p) / max(fz_hi, 1.0)
+            if p.blowout_compensation_abs_dump_bound_flag > 0.5:
+                # (abs_dump_bound_flag, 0 = seeded defect = the line below) the friction circle alone, F_x <= mu*F_z,
+                # with the force AT the dump's start: the brake torque at the fade gain less the wheel's own spin-down
+                # J*a_w/R then (J*omega_dot = F_x*R - T_b). The Dugoff factor 2/(1 + sqrt(1 - f)) needs the slip of
+                # the same instant - the present window's slip (a wheel recovering after the dump) with the pressure
+                # before it made a locking wheel look linear (up to 2 x F); and the present wdot is not the lock's
+                t_lo = p.blowout_compensation_brake_gain_fade_low_frac * gain * st[S_P_PREDUMP]
+                t_lo -= p.body_wheel_inertia_kgm2 * max(st[S_AW_PREDUMP], 0.0) / p.body_wheel_radius_m
+                mu_dump = max(t_lo, 0.0) / p.body_wheel_radius_m / max(fz_hi, 1.0)
+            else:
+                mu_dump = mu_lower_bound(st[S_P_PREDUMP], v_m, min(wdot, 0.0), v_s, gain, p) / max(fz_hi, 1.0)
             mu_dump = min(mu_dump, p.blowout_compensation_mu_estimate_frac)
             if mu_dump > st[S_MU_MEAS]:
                 if st[S_MU_PRE] <= 0.0:

@@ -102,9 +102,11 @@ ABS_LOG_CAP = 60  # ABS mode changes logged per wheel (the event buffer is share
 # controller state vector (named indices)
 C_V_REF, C_STARTED, C_IMPLAUSIBLE_S, C_SENSOR_LATCH, C_GMA_START, C_GMA_WHEEL, C_T, C_SENSOR_OK, C_ABS_OK, \
     C_HBA_AVAILABLE, C_SOURCE_C1, C_SOURCE_C2, C_GMA_BLOCK, C_PUMPED_C1, C_PUMPED_C2, C_REF_EXCLUDED, \
-    C_REF_PERSIST_S, C_BRAKED_S = range(18)
+    C_REF_PERSIST_S, C_BRAKED_S, C_GMA_PRE = range(19)
 SRC_UNDECIDED, SRC_PUMP, SRC_DRIVER = 0.0, 1.0, 2.0  # per circuit during an assist (C_SOURCE_C1/C2)
-CTL_SIZE = 18
+CTL_SIZE = 19
+# C_GMA_PRE = 1 + the front wheel whose split-mu GMA was running when a blowout detection on the OTHER front made it
+# the compensating wheel and gma_blown_front_flag ended that GMA (0 none; gma_rejected_pre_flag); cleared with the block
 # C_BRAKED_S: time since the brake-light switch came on (0 while off)
 # C_REF_EXCLUDED: wheel the reference speed leaves out as implausibly fast (-1 none); C_REF_PERSIST_S: how long the
 # pending change (a new fast wheel, or the excluded one plausible again) has persisted
@@ -428,6 +430,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # braking rule: the re-build after this dump goes back to here - only a dump with slip evidence marks the
             # lock level (predump_slip_flag: a noise-triggered deceleration dump at 2.8 % slip latched 31 of 64 bar)
             bst[bc.S_P_PREDUMP] = wheels[i, A_P_EST]
+            bst[bc.S_AW_PREDUMP] = a_w  # the wheel's deceleration at that pressure (abs_dump_bound_flag)
         elif (new == abs_fn.OFF and mode != abs_fn.OFF and i == comp_wheel
               and p.blowout_compensation_braking_rule_flag > 0.5):
             # ABS let the wheel go (build_idle: no hold/dump for abs_idle_time_s), so the dump's pressure is no lock
@@ -470,9 +473,13 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                 and 0 <= blown < 2 and blown != tgt):
             # (gma_blown_front_flag) a GMA on the compensating front started by the blown front's activity: ended
             ctl[C_GMA_WHEEL] = -1.0
+            if ctl[C_GMA_BLOCK] < 0.5:
+                ctl[C_GMA_PRE] = tgt + 1.0  # it ran before the function acted (gma_rejected_pre_flag)
         ctl[C_GMA_BLOCK] = tgt + 1.0
     elif ctl[C_GMA_BLOCK] > 0.5 and int(wheels[int(ctl[C_GMA_BLOCK]) - 1, A_MODE]) == abs_fn.OFF:
         ctl[C_GMA_BLOCK] = 0.0
+    if ctl[C_GMA_BLOCK] < 0.5 or not bls:
+        ctl[C_GMA_PRE] = 0.0
     blk = int(ctl[C_GMA_BLOCK]) - 1
     # (gma_blown_front_flag) the blown front released by a compensation on the other front: its ABS hold/dump activity
     # is the flat tire's / the release's, not a split-mu road's - it does not start the GMA on the compensating wheel
@@ -487,6 +494,12 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     rej = int(bst[bc.S_REJECTED])
     blk_r = rej if (tgt < 0 and 0 <= blk < 2 and 0 <= rej < 2 and rej != blk
                     and p.blowout_compensation_gma_rejected_flag > 0.5) else -1
+    if blk_r >= 0 and p.blowout_compensation_gma_rejected_pre_flag > 0.5 and int(ctl[C_GMA_PRE]) - 1 == blk:
+        # (gma_rejected_pre_flag, 0 = seeded defect = ignored always) the rejected front's one-sided activity had
+        # started the GMA on the compensating front BEFORE the detection (gma_blown_front_flag ended it): split-mu
+        # evidence the function did not cause - once the detection is rejected it counts again, so the GMA restarts
+        # (false FR alarm on split-mu, FR on snow, 80 km/h pedal 0.3: FL at 47 bar without it, 3.50 m vs 1.89 none)
+        blk_r = -1
     act0 = wheels[0, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 0 and blk_b != 0 and blk_r != 0
     act1 = wheels[1, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 1 and blk_b != 1 and blk_r != 1
     spin_front = tgt if (0 <= tgt < 2 and bst[bc.S_LIMIT_CODE] == bc.LIMIT_SPIN_FRONT) else -1

@@ -274,6 +274,9 @@ class SedanBlowoutCompensation(Strict):
     # after a front detection is rejected, while the GMA block of its compensating front is kept, the re-applied
     # (rejected) front's ABS activity does not start the GMA on the compensating front either; 0 = seeded defect
     gma_rejected_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # gma_rejected_flag not when the GMA on the compensating front had run before the detection (ended by
+    # gma_blown_front_flag): that split-mu evidence was not the function's doing; 0 = seeded defect (H2: ignored always)
+    gma_rejected_pre_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # measured_mu_raise as a guaranteed lower bound: brake force at the pad-fade edge, f(H) against the C_x upper
     # tolerance, mu*F_z >= 2*F_lo/(1 + sqrt(1 - f_lo)) (Dugoff, spec 2.3), over the present load at the measured a_x
     # (+ lateral transfer); S_LIN_S reset per plan; 0 = seeded defect (G7's reading: gain 0.82, nominal C_x, plan load)
@@ -298,6 +301,10 @@ class SedanBlowoutCompensation(Strict):
     # 0 = seeded defect (the floor at the balance)
     braking_lock_floor_flag: Annotated[int, Field(ge=0, le=1)] = 1
     braking_lock_floor_frac: Annotated[float, Field(gt=0, le=1)] = 0.8  # assumed: 20 % below the last lock pressure
+    # front_abs_limit_flag's dump reading as a lower bound: the friction circle with the force at the dump's start
+    # (fade gain, less the wheel's spin-down J*a_w/R then), not Dugoff's 2/(1 + sqrt(1 - f)) with the slip of a later
+    # window; 0 = seeded defect (H1's reading: up to 1.57 x the true mu)
+    abs_dump_bound_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
