@@ -140,3 +140,19 @@ def test_fa9_better_than_the_code_before(fa9):
                    "0.408 m vs the twin's 0.050 m - not fixed")
 def test_fa9_no_worse_than_no_compensation(fa9):
     assert fa9["on"].metrics[METRIC] <= fa9["off"].metrics[METRIC]
+
+
+# --- H8 (session h): the floor's premise (``braking_lock_premise_flag``, findings_F.md RH2 (c)) -------------------
+HOLD_OFF = "vehicle.blowout_compensation.blown_front_hold_flag=0"
+FLOOR_OFF = "vehicle.blowout_compensation.braking_lock_floor_flag=0"
+PREMISE_DEFECT = "vehicle.blowout_compensation.braking_lock_premise_flag=0"
+
+
+def test_floor_needs_the_blown_front_hold(env):
+    """With blown_front_hold_flag = 0 the blown front is released (paper 004 eqs. 26-28) and the balance's premise
+    holds: the lock floor must not act, the run equals the one with the floor off; with the seeded defect
+    (braking_lock_premise_flag = 0) the floor acts there and the run differs (#108)."""
+    def dev(*sets):
+        return envelope_point_run(env, P108, sets=list(sets)).metrics[METRIC]
+    assert dev(HOLD_OFF) == dev(HOLD_OFF, FLOOR_OFF)
+    assert dev(HOLD_OFF, PREMISE_DEFECT) != dev(HOLD_OFF, FLOOR_OFF)

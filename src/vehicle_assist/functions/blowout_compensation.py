@@ -1671,8 +1671,13 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
     p_floor = p_bal  # the floor while the yaw points away from the blown side
     if p.blowout_compensation_braking_lock_floor_flag > 0.5:
         p_lock = braking_lock_floor(st, tg, p_bal, p_est, p)  # tracks the lock level every period
-        if toward_blown_side(b, r_ref) > p.blowout_compensation_yaw_deadband_radps:
-            p_floor = p_lock  # a curve toward the blown side: its inner front held, not released (blown_front_hold)
+        if toward_blown_side(b, r_ref) > p.blowout_compensation_yaw_deadband_radps and (
+                p.blowout_compensation_blown_front_hold_flag > 0.5
+                or p.blowout_compensation_braking_lock_premise_flag < 0.5):
+            # a curve toward the blown side: its inner front held, not released (blown_front_hold); (braking_lock_
+            # premise_flag, 0 = seeded defect = whatever blown_front_hold_flag) without that hold the blown front is
+            # released as the paper does and the balance's premise stands (findings_F.md RH2 (c), H8)
+            p_floor = p_lock
     if toward < -p.blowout_compensation_yaw_deadband_radps:
         st[S_P_BRAKE] = p_floor
     elif toward < p.blowout_compensation_yaw_deadband_radps:

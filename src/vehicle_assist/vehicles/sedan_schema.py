@@ -302,6 +302,9 @@ class SedanBlowoutCompensation(Strict):
     # compensating front with a known lock level counts as at its ABS limit for blown_front_hold; 0 = seeded defect
     # (forgotten once ABS is quiet; the held inner front released while the floor keeps ABS quiet)
     braking_lock_keep_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # braking lock floor only with blown_front_hold_flag (its premise: the blown inner front held, not released);
+    # 0 = seeded defect (the floor acts whatever blown_front_hold_flag)
+    braking_lock_premise_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
