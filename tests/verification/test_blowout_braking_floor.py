@@ -91,6 +91,7 @@ def test_real_blowout_not_rejected_as_implausible(runs, name):
 # Before (flag 0): FR held at 0.8 x its lock level, its ABS went quiet (build_idle 1.64 / 1.98 / 2.33 s), the level was
 # forgotten, FR re-built to the balance and dumped again by ABS (1.665, 2.01 s), and in each gap blown_front_hold let
 # the healthy FL go (41.8 -> 14-22 bar): 0.856 m vs 0.183 m with the lock floor off; twin (no compensation) 0.050 m.
+# With the rule: 0.744 m (rejected 2.705 s).
 KEEP_DEFECT = "vehicle.blowout_compensation.braking_lock_keep_flag=0"
 FA9 = {"speed": 118.26409098513736, "mu": 0.661346301946151, "brake.start_s": 1.1813723517130181,
        "brake.level_frac": 0.23492070668839557, "brake.rate_per_s": 9.448102231140581, "braking": "brakes",
@@ -104,40 +105,17 @@ def fa9():
             "defect": envelope_point_run(env, FA9, sets=[KEEP_DEFECT])}
 
 
-def _window(run):
-    """Times of the detection (BUILD) and of its rejection (REJECTED) of the false alarm."""
-    ev = [e for e in run.events if e.machine == "blowout_compensation"]
-    t_det = min(e.time_s for e in ev if e.to_mode == "BUILD")
-    t_rej = min(e.time_s for e in ev if e.to_mode == "REJECTED")
-    return t_det, t_rej
-
-
-def _fr_relocks(run) -> int:
-    """ABS dumps on the compensating FR after its ABS first went quiet, before the rejection: the wheel re-built to the
-    level ABS had already found (the lock level forgotten)."""
-    t_det, t_rej = _window(run)
-    fr = [e for e in run.events if e.machine == "abs_fr" and t_det < e.time_s < t_rej]
-    quiet = [e.time_s for e in fr if e.to_mode == "OFF"]
-    if not quiet:
-        return 0
-    return sum(1 for e in fr if e.to_mode == "DUMP" and e.time_s > quiet[0])
-
-
-def test_fa9_lock_level_not_relearned_by_relocking(fa9):
-    """With the level kept, the floor holds FR below the lock ABS found for the rest of the false alarm: no ABS dump on
-    FR after its ABS went quiet (the code before re-built it to the balance and ABS dumped it again, 2 times)."""
-    assert _fr_relocks(fa9["on"]) == 0
-    assert _fr_relocks(fa9["defect"]) >= 1
-
-
 def test_fa9_better_than_the_code_before(fa9):
-    """0.408 m with the rule vs 0.856 m with the flag at 0 (the inner FL no longer let go while FR's ABS is quiet)."""
+    """0.744 m with the rule vs 0.856 m with the flag at 0 (the lock level kept while FR is held at or below its floor
+    and its ABS is quiet, FR counted as at its limit for blown_front_hold). Protected the other way by
+    tests/functions/test_blowout_blown_front_hold.py #273: the level kept whatever the wheel's pressure made #273 0.598 m
+    vs none 0.594 m."""
     assert fa9["on"].metrics[METRIC] < fa9["defect"].metrics[METRIC]
 
 
 @pytest.mark.xfail(strict=True, reason="findings_F.md H8: a false alarm the function acts on until its yaw_implausible "
-                   "rejection at 2.935 s (FR 46-48 bar vs FL 40-43 bar, the yaw 0.3-0.9 deg/s below the curve's): "
-                   "0.408 m vs the twin's 0.050 m - not fixed")
+                   "rejection at 2.705 s (2.345 s with the flag at 0, 2.255 s with the lock floor off): 0.744 m vs the "
+                   "twin's 0.050 m (0.183 m with the lock floor off) - not fixed")
 def test_fa9_no_worse_than_no_compensation(fa9):
     assert fa9["on"].metrics[METRIC] <= fa9["off"].metrics[METRIC]
 
