@@ -298,7 +298,8 @@ class SedanBlowoutCompensation(Strict):
     # 0 = seeded defect (the floor at the balance)
     braking_lock_floor_flag: Annotated[int, Field(ge=0, le=1)] = 1
     braking_lock_floor_frac: Annotated[float, Field(gt=0, le=1)] = 0.8  # assumed: 20 % below the last lock pressure
-    # braking lock floor: the lock level is kept while ABS is quiet on the wheel (the floor keeps it quiet), and a
+    # braking lock floor: the lock level is kept while ABS is quiet on the wheel and the wheel is held at or below the
+    # floor (the floor keeps it quiet), and a
     # compensating front with a known lock level counts as at its ABS limit for blown_front_hold; 0 = seeded defect
     # (forgotten once ABS is quiet; the held inner front released while the floor keeps ABS quiet)
     braking_lock_keep_flag: Annotated[int, Field(ge=0, le=1)] = 1
