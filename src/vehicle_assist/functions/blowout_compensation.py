@@ -1484,7 +1484,13 @@ def blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p):
         return
     if not (mode == BUILD or mode == HOLD or mode == LIMITED):
         return
-    if st[S_ABS_ACTIVE + tg] < 0.5:
+    if st[S_ABS_ACTIVE + tg] < 0.5 and not (p.blowout_compensation_braking_lock_keep_flag > 0.5
+                                            and p.blowout_compensation_braking_lock_floor_flag > 0.5
+                                            and st[S_LOCK_P] > 0.0):
+        # (braking_lock_keep_flag, 0 = seeded defect = ABS activity only) a compensating front whose lock level ABS
+        # found is kept (S_LOCK_P, braking_lock_floor: held at or below the floor) is at its limit: the braking rule's
+        # floor holds it below that level, and that is why ABS is quiet on it (findings_F.md H8: false FL alarm, FR
+        # held at 0.8 x lock, ABS quiet 0.3 s later, the healthy FL let go three times: 0.856 m, 0.744 m with the rule)
         return
     if toward_blown_side(b, r_ref) <= p.blowout_compensation_yaw_deadband_radps:
         return  # not a turn toward the blown side
@@ -1668,8 +1674,13 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
     p_floor = p_bal  # the floor while the yaw points away from the blown side
     if p.blowout_compensation_braking_lock_floor_flag > 0.5:
         p_lock = braking_lock_floor(st, tg, p_bal, p_est, p)  # tracks the lock level every period
-        if toward_blown_side(b, r_ref) > p.blowout_compensation_yaw_deadband_radps:
-            p_floor = p_lock  # a curve toward the blown side: its inner front held, not released (blown_front_hold)
+        if toward_blown_side(b, r_ref) > p.blowout_compensation_yaw_deadband_radps and (
+                p.blowout_compensation_blown_front_hold_flag > 0.5
+                or p.blowout_compensation_braking_lock_premise_flag < 0.5):
+            # a curve toward the blown side: its inner front held, not released (blown_front_hold); (braking_lock_
+            # premise_flag, 0 = seeded defect = whatever blown_front_hold_flag) without that hold the blown front is
+            # released as the paper does and the balance's premise stands (findings_F.md RH2 (c), H8)
+            p_floor = p_lock
     if toward < -p.blowout_compensation_yaw_deadband_radps:
         st[S_P_BRAKE] = p_floor
     elif toward < p.blowout_compensation_yaw_deadband_radps:
@@ -1726,15 +1737,22 @@ def braking_lock_floor(st, tg, p_bal, p_est, p):
     searches worse by 0.05-0.40 m, 15 of them straight-road or outer-front points, none a violation; restricted: 3)."""
     p_now = p_est[tg]
     p_prev = st[S_LOCK_PREV]
-    if st[S_ABS_ACTIVE + tg] < 0.5:
+    keep = p.blowout_compensation_braking_lock_keep_flag > 0.5
+    held = st[S_LOCK_P] > 0.0 and p_now <= p.blowout_compensation_braking_lock_floor_frac * st[S_LOCK_P] + 1.0e5
+    if st[S_ABS_ACTIVE + tg] < 0.5 and not (keep and held):
         st[S_LOCK_P] = -1.0
         st[S_LOCK_FALL] = 0.0
-    elif (p_prev >= 0.0 and p_now < p_prev - 1.0e5 and st[S_LOCK_FALL] < 0.5
+    elif (st[S_ABS_ACTIVE + tg] > 0.5 and p_prev >= 0.0 and p_now < p_prev - 1.0e5 and st[S_LOCK_FALL] < 0.5
           and p_prev <= st[S_P_REQ] + 1.0e5):
         st[S_LOCK_P] = p_prev  # a dump starts: the lock level ABS found
         st[S_LOCK_FALL] = 1.0
     elif p_now >= p_prev:
         st[S_LOCK_FALL] = 0.0
+    # (braking_lock_keep_flag, 0 = seeded defect = forgotten once ABS is quiet on the wheel) the level is kept while
+    # ABS is quiet AND the wheel is held at or below the floor (held): there the floor is what keeps ABS quiet - a
+    # quiet ABS is no evidence that the wheel carries more; a wheel quiet above the floor (re-built by the yaw gate's
+    # branches) does carry more and the level goes (kept whatever the pressure: shipped check #273 of
+    # test_blowout_blown_front_hold 0.567 -> 0.598 m vs none 0.594, findings_F.md H8)
     st[S_LOCK_PREV] = p_now
     if st[S_LOCK_P] > 0.0:
         return min(p_bal, p.blowout_compensation_braking_lock_floor_frac * st[S_LOCK_P])

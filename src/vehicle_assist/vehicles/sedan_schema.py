@@ -305,6 +305,14 @@ class SedanBlowoutCompensation(Strict):
     # (fade gain, less the wheel's spin-down J*a_w/R then), not Dugoff's 2/(1 + sqrt(1 - f)) with the slip of a later
     # window; 0 = seeded defect (H1's reading: up to 1.57 x the true mu)
     abs_dump_bound_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # braking lock floor: the lock level is kept while ABS is quiet on the wheel and the wheel is held at or below the
+    # floor (the floor keeps it quiet), and a
+    # compensating front with a known lock level counts as at its ABS limit for blown_front_hold; 0 = seeded defect
+    # (forgotten once ABS is quiet; the held inner front released while the floor keeps ABS quiet)
+    braking_lock_keep_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # braking lock floor only with blown_front_hold_flag (its premise: the blown inner front held, not released);
+    # 0 = seeded defect (the floor acts whatever blown_front_hold_flag)
+    braking_lock_premise_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
