@@ -147,13 +147,9 @@ def _persisted(ctl, new_ex, dt, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def braking_outlier(vw, ex, abs_quiet_s, p):
-    """While braking: the wheel that may be implausibly fast (a blown or too-small tire), else -1. It is the fastest
-    wheel other than the excluded ``ex``, alone: more than ``reference_implausible_frac`` above the SECOND fastest (a
-    smaller rolling radius makes one wheel fast; a reference drifted low under a whole-car slip sees several wheels,
-    or one wheel the ABS released, come back), and without valve activity for ``reference_braking_abs_quiet_time_s``
-    (``abs_quiet_s``; None: all quiet): a wheel whose inlet was closed or outlet opened (its own ABS, the rear
-    select-low, the GMA) is recovering toward the car's speed from below, never a fast tire's signature."""
+def fastest_two(vw, ex):
+    """Among the wheels other than ``ex``: the fastest one's index (-1: none), its speed and the second fastest
+    speed (-1.0 where there is none)."""
     first = -1
     v1 = -1.0
     v2 = -1.0
@@ -166,6 +162,18 @@ def braking_outlier(vw, ex, abs_quiet_s, p):
             first = i
         elif vw[i] > v2:
             v2 = vw[i]
+    return first, v1, v2
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def braking_outlier(vw, ex, abs_quiet_s, p):
+    """While braking: the wheel that may be implausibly fast (a blown or too-small tire), else -1. It is the fastest
+    wheel other than the excluded ``ex``, alone: more than ``reference_implausible_frac`` above the SECOND fastest (a
+    smaller rolling radius makes one wheel fast; a reference drifted low under a whole-car slip sees several wheels,
+    or one wheel the ABS released, come back), and without valve activity for ``reference_braking_abs_quiet_time_s``
+    (``abs_quiet_s``; None: all quiet): a wheel whose inlet was closed or outlet opened (its own ABS, the rear
+    select-low, the GMA) is recovering toward the car's speed from below, never a fast tire's signature."""
+    first, v1, v2 = fastest_two(vw, ex)
     if first < 0 or v1 <= v2 * (1.0 + p.esp_reference_implausible_frac):
         return -1
     if abs_quiet_s is not None and abs_quiet_s[first] < p.esp_reference_braking_abs_quiet_time_s - 1e-9:
@@ -175,18 +183,8 @@ def braking_outlier(vw, ex, abs_quiet_s, p):
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def second_fastest(vw, ex):
-    """The second fastest wheel speed among the wheels other than ``ex`` (-1: none left out)."""
-    v1 = 0.0
-    v2 = 0.0
-    for i in range(4):
-        if i == ex:
-            continue
-        if vw[i] > v1:
-            v2 = v1
-            v1 = vw[i]
-        elif vw[i] > v2:
-            v2 = vw[i]
-    return v2
+    """The second fastest wheel speed among the wheels other than ``ex`` (-1: none left out), not below 0."""
+    return max(fastest_two(vw, ex)[2], 0.0)
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
