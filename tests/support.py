@@ -226,3 +226,18 @@ class BlowoutEcu:
     def mode(self):
         from vehicle_assist.functions import blowout_compensation as bc
         return bc.MODES[int(self.st[bc.S_MODE])]
+
+
+def understeer_hold_state(*sets: str):
+    """(blowout_compensation module, state, packed parameters) of a compensation in HOLD on FR for a blown FL of the
+    shipped blowout_lf_80kph_curve vehicle (``sets`` applied): balance 40 bar from 0 bar, no capacity evidence - the
+    understeer rule's unit rows (tests of understeer_persist_flag and understeer_restore_settled_flag)."""
+    from vehicle_assist.functions import blowout_compensation as bc
+    from vehicle_assist.scenarios.runner import pack_records
+    sc = va.load_scenario("blowout_lf_80kph_curve").with_sets(*sets)
+    p = pack_records([sc.vehicle.flat()])[0]
+    st = bc.initial_state()
+    st[bc.S_P_REQ] = 40.0e5
+    st[bc.S_P_START] = 0.0
+    st[bc.S_CAP_LATCHED] = 0.0
+    return bc, st, p

@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.support import envelope_point_metric
+from tests.support import envelope_point_metric, understeer_hold_state
 from vehicle_assist.verification.envelope import load_envelope
 
 METRIC = "blowout_lateral_deviation_run_max_m"
@@ -68,17 +68,7 @@ def test_inner_front_curve_worse_with_the_defect(runs, key):
 def _rule_state(params_flag):
     """A compensation in HOLD on FR for a blown FL, no capacity evidence, the reference 0.1 rad/s into the curve
     (toward FL) and the measured yaw 0.05 rad/s: a shortfall of 0.05 rad/s, well beyond the 1 deg/s dead band."""
-    from vehicle_assist.functions import blowout_compensation as bc
-    from vehicle_assist.scenarios.runner import pack_records
-    import vehicle_assist as va
-    sc = va.load_scenario("blowout_lf_80kph_curve").with_sets(
-        f"vehicle.blowout_compensation.understeer_persist_flag={params_flag}")
-    p = pack_records([sc.vehicle.flat()])[0]
-    st = bc.initial_state()
-    st[bc.S_P_REQ] = 40.0e5
-    st[bc.S_P_START] = 0.0
-    st[bc.S_CAP_LATCHED] = 0.0
-    return bc, st, p
+    return understeer_hold_state(f"vehicle.blowout_compensation.understeer_persist_flag={params_flag}")
 
 
 def _hold_shortfall(bc, st, p, seconds, v_ref, yaw=0.05, r_ref=0.1, dt=0.005):

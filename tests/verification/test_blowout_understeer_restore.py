@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 import vehicle_assist as va
+from tests.support import understeer_hold_state
 
 LANE_HALF_FREE_M = 0.978  # data/requirements/tire_blowout.toml stay_in_lane (JTG B01-2014 lane, BJ2500 width)
 DEFECT = "vehicle.blowout_compensation.understeer_restore_settled_flag=0"
@@ -51,16 +52,7 @@ def test_curve_to_standstill_leaves_lane_with_the_defect(lane):
 
 
 def _state(flag):
-    from vehicle_assist.functions import blowout_compensation as bc
-    from vehicle_assist.scenarios.runner import pack_records
-    sc = va.load_scenario("blowout_lf_80kph_curve").with_sets(
-        f"vehicle.blowout_compensation.understeer_restore_settled_flag={flag}")
-    p = pack_records([sc.vehicle.flat()])[0]
-    st = bc.initial_state()
-    st[bc.S_P_REQ] = 40.0e5
-    st[bc.S_P_START] = 0.0
-    st[bc.S_CAP_LATCHED] = 0.0
-    return bc, st, p
+    return understeer_hold_state(f"vehicle.blowout_compensation.understeer_restore_settled_flag={flag}")
 
 
 def _run(bc, st, p, seconds, yaw, r_ref=0.1, v=100.0 / 3.6, dt=0.005):
