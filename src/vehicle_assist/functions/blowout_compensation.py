@@ -315,8 +315,9 @@ S_US_SHORT_S = S_MU_PRE + 1
 # a break (the restore of a lowering made without capacity evidence waits for the same settling time)
 S_US_OVER_S = S_US_SHORT_S + 1
 # braking_lock_floor_flag (``braking_rule``): the compensating front's pressure when ABS last started a dump on it (any
-# dump: the lock level ABS found) [Pa] (-1 none: forgotten once ABS is quiet on the wheel), its pressure estimate of the
-# last period [Pa] (-1 none) and 1 while that estimate is falling (a dump under way, its start already taken)
+# dump: the lock level ABS found) [Pa] (-1 none: forgotten once ABS is quiet on the wheel - with braking_lock_keep_flag
+# only once it is quiet AND the wheel is above the floor + 1 bar - and whenever braking_rule stops), its pressure
+# estimate of the last period [Pa] (-1 none) and 1 while that estimate is falling (a dump under way, its start taken)
 S_LOCK_P = S_US_OVER_S + 1
 S_LOCK_PREV = S_LOCK_P + 1
 S_LOCK_FALL = S_LOCK_PREV + 1
@@ -1453,7 +1454,8 @@ def blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p):
     """The blown FRONT wheel, the inner front of a turn steered toward it, is held at its present (ABS) pressure instead
     of released (``blown_front_hold_flag``, 0 = seeded defect = always released; findings_F.md X2, lead random 41 b512
     #273) while: the driver brakes; the compensation runs on the other front (BUILD/HOLD/LIMITED); that front is at
-    its ABS limit (ABS active on it - a hold or dump in the last 0.3 s, spec 4.3, S_ABS_ACTIVE from functions/esp.py);
+    its ABS limit (ABS active on it - a hold or dump in the last 0.3 s, spec 4.3, S_ABS_ACTIVE from functions/esp.py;
+    with ``braking_lock_keep_flag`` also a lock level ABS found on it and still kept, S_LOCK_P of braking_lock_floor);
     the steered reference yaw rate (``reference_yaw_rate``) points toward the blown side by more than the closed-loop
     dead band (a curve toward it); and the measured yaw rate is not above that reference toward the blown side.
 
@@ -1725,7 +1727,9 @@ def braking_lock_floor(st, tg, p_bal, p_est, p):
     the fraction is braking_lock_floor_frac, assumed); here the
     re-build stops at that fraction and the wheel is held (the floor is a re-build limit, never a dump: a wheel above
     it is only not re-built) until ABS is quiet on it (no hold or dump for 0.3 s, S_ABS_ACTIVE, spec 4.3): the lock level
-    is then forgotten and the floor is the balance again, as ABS forgets it (functions/esp.py build_idle). A dump is
+    is then forgotten and the floor is the balance again, as ABS forgets it (functions/esp.py build_idle) - with
+    ``braking_lock_keep_flag`` (0 = seeded defect = that) only once the wheel is also above the floor + 1 bar (held at
+    or below it, the floor is what keeps ABS quiet; findings_F.md H8), and always when braking_rule stops. A dump is
     the ECU's pressure estimate falling by more than 1 bar in one period from at most the balance + 1 bar (the rule
     itself lowers a wheel only from above the balance, functions/esp.py); its start is the level. Only while the yaw
     points away from the blown side (the counter-moment already exceeds the drag): toward it the balance stands (a
