@@ -684,6 +684,18 @@ def ecu_loads(p, a_x):
     return front, front, rear, rear
 
 
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def blown_ecu_loads(b, a_x, p):
+    """The ECU's wheel loads [N] with wheel ``b`` blown: ``ecu_loads`` at a_x, then the flat's radius loss
+    redistributed over the suspension (eqs. 3-4, ``transfer_n`` / ``redistributed_loads``)."""
+    f0, f1, f2, f3 = ecu_loads(p, a_x)
+    d_r = p.body_wheel_radius_m - p.blowout_inner_radius_m
+    f = transfer_n(b, f0, f1, f2, f3, d_r, p.blowout_suspension_rate_front_n_per_m,
+                   p.blowout_suspension_rate_rear_n_per_m)
+    return redistributed_loads(b, f0, f1, f2, f3, f)
+
+
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def reference_yaw_rate(steer_rad, speed_mps, p):
     """The ECU's expected yaw rate for the measured road-wheel angle (linear single-track steady state,
@@ -729,10 +741,7 @@ def released_moment_bound_nm(b, a_x, p):
         # wheel's own drag, which is not the road friction the braked tires use: the ECU's drag of eqs. 22-25 (the
         # plan's mu_blow*F'_z on the redistributed load, _plan) comes off before the friction bound. Without it the
         # bound took |a_x|/g 0.63-0.75 for mu 0.58-0.59 (falsifier braking points, review r1)
-        d_r = p.body_wheel_radius_m - p.blowout_inner_radius_m
-        f = transfer_n(b, f0, f1, f2, f3, d_r, p.blowout_suspension_rate_front_n_per_m,
-                       p.blowout_suspension_rate_rear_n_per_m)
-        g = redistributed_loads(b, f0, f1, f2, f3, f)
+        g = blown_ecu_loads(b, a_x, p)
         drag = p.blowout_compensation_mu_estimate_frac * p.blowout_compensation_blow_drag_frac * g[b]
         decel_n = max(decel_n - drag, 0.0)
     f_o = decel_n / (m * 9.81) * (f0, f1, f2, f3)[o]
@@ -927,11 +936,7 @@ def _release_unconfirmed_latch(st):
 def _plan(st, b, target, limited, slip_mean, a_x, a_y, p_est, p):
     """Estimate (eqs. 13-25), added pressure (eq. 28) on top of the target's present pressure, valve time
     (eq. 30) for blown wheel b braking ``target``; capped at the lock estimate when ``limited``."""
-    f0, f1, f2, f3 = ecu_loads(p, a_x)
-    d_r = p.body_wheel_radius_m - p.blowout_inner_radius_m
-    f = transfer_n(b, f0, f1, f2, f3, d_r, p.blowout_suspension_rate_front_n_per_m,
-                   p.blowout_suspension_rate_rear_n_per_m)
-    g0, g1, g2, g3 = redistributed_loads(b, f0, f1, f2, f3, f)
+    g0, g1, g2, g3 = blown_ecu_loads(b, a_x, p)
     s_est = min(max(slip_mean, 0.0), 1.0)
     st[S_SLIP_EST] = s_est
     b_f = 0.5 * p.chassis_front_track_m
@@ -1578,10 +1583,7 @@ def understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, reque
             return
         if over_db < db and err_in > over_db and st[S_US_LIMITED] > 0.5:
             # (understeer_restore_settled_flag) the excess has lasted the settling time: the balance back
-            st[S_P_REQ] = max(st[S_US_PLAN], st[S_P_REQ])
-            st[S_US_LIMITED] = 0.0
-            if p.blowout_compensation_understeer_cap_freeze_flag > 0.5:
-                st[S_LOW_S] = -WS_WINDOW_N * dt
+            understeer_restore(st, p, dt)
             return
     if short and evidence:
         if st[S_US_LIMITED] < 0.5:
@@ -1591,12 +1593,18 @@ def understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, reque
         requests[tg] = Q_RELEASE if p_est[tg] > st[S_P_START] + 1.0e5 else Q_HOLD
     elif st[S_US_LIMITED] > 0.5 and err_in > db:
         # turning toward the blown side beyond the reference: the balance before the lowering back (re-built by the ESP)
-        st[S_P_REQ] = max(st[S_US_PLAN], st[S_P_REQ])
-        st[S_US_LIMITED] = 0.0
-        if p.blowout_compensation_understeer_cap_freeze_flag > 0.5:
-            # (understeer_cap_freeze_flag) the filter window still holds the held wheel's samples: the capacity evidence
-            # counts again only after a fresh window (as the rear slip limit's S_SLIP_HIGH_S), not from the hold's
-            st[S_LOW_S] = -WS_WINDOW_N * dt
+        understeer_restore(st, p, dt)
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def understeer_restore(st, p, dt):
+    """The understeer rule's restore: the balance before the lowering back (S_US_PLAN; the ESP re-builds the wheel)."""
+    st[S_P_REQ] = max(st[S_US_PLAN], st[S_P_REQ])
+    st[S_US_LIMITED] = 0.0
+    if p.blowout_compensation_understeer_cap_freeze_flag > 0.5:
+        # (understeer_cap_freeze_flag) the filter window still holds the held wheel's samples: the capacity evidence
+        # counts again only after a fresh window (as the rear slip limit's S_SLIP_HIGH_S), not from the hold's
+        st[S_LOW_S] = -WS_WINDOW_N * dt
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -1650,11 +1658,7 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
         st[S_LOCK_FALL] = 0.0
         return
     mu = st[S_MU_MEAS] if st[S_MU_MEAS] > 0.0 else p.blowout_compensation_mu_estimate_frac
-    f0, f1, f2, f3 = ecu_loads(p, a_x)
-    d_r = p.body_wheel_radius_m - p.blowout_inner_radius_m
-    f = transfer_n(b, f0, f1, f2, f3, d_r, p.blowout_suspension_rate_front_n_per_m,
-                   p.blowout_suspension_rate_rear_n_per_m)
-    g0, g1, g2, g3 = redistributed_loads(b, f0, f1, f2, f3, f)
+    g0, g1, g2, g3 = blown_ecu_loads(b, a_x, p)
     gl = (g0, g1, g2, g3)
     r_w = p.body_wheel_radius_m
     fx_max = wheel_circle_limit_mu(tg, gl[tg], a_y_ref, mu, b, p)  # its friction circle next to its lateral share
@@ -2070,12 +2074,7 @@ def mu_raise_loads_n(st, tg, a_x, a_y, p):
     rule's load (``ecu_loads`` at the measured a_x, the blowout transfer of eqs. 3-4) plus / minus the lateral load
     transfer at a_y (``wheel_load_and_lateral_n``; its sign is not needed for a bound)."""
     b = int(st[S_BLOWN])
-    f0, f1, f2, f3 = ecu_loads(p, a_x)
-    if b >= 0:
-        d_r = p.body_wheel_radius_m - p.blowout_inner_radius_m
-        f = transfer_n(b, f0, f1, f2, f3, d_r, p.blowout_suspension_rate_front_n_per_m,
-                       p.blowout_suspension_rate_rear_n_per_m)
-        f0, f1, f2, f3 = redistributed_loads(b, f0, f1, f2, f3, f)
+    f0, f1, f2, f3 = blown_ecu_loads(b, a_x, p) if b >= 0 else ecu_loads(p, a_x)
     gl = (f0, f1, f2, f3)
     fz_a, _ = wheel_load_and_lateral_n(tg, gl[tg], a_y, b, p)
     d = abs(fz_a - gl[tg])
