@@ -78,6 +78,12 @@ def _departure(t, phi, mode, e):
     return float(_dev_max(t, phi, mode, e) > LANE_MARGIN_M)
 
 
+def _lane_exceedance(t, e):
+    """How far the car's edge gets beyond its lane marking over the whole run [m]: max(0, max |lane offset| -
+    LANE_MARGIN_M); 0 inside the lane. The same boundary as the requirement stay_in_lane (whole run, absolute offset)."""
+    return float(max(0.0, np.max(np.abs(e)) - LANE_MARGIN_M)) if e.size else 0.0
+
+
 def _decel(t, phi, mode, a):
     tb = blowout_time_s(t, phi, mode)
     w = _window(t, tb, tb + YAW_WINDOW_S)
@@ -176,6 +182,8 @@ _DEFS = [
     ("blowout_heading_error_3s_rad", _dev_3s, _BASE + ("lane_heading_error_rad",), "|heading error change| at t_b + 3 s"),
     ("blowout_lane_departure_flag", _departure, _BASE + ("lane_offset_m",),
      "1 if the offset exceeds (3.75 m lane - 1.794 m car)/2 within 3 s"),
+    ("blowout_lane_exceedance_m", _lane_exceedance, ("lane_offset_m",),
+     "max(0, max |lane offset| - (3.75 m lane - 1.794 m car)/2) over the whole run: how far out of the lane"),
     ("blowout_decel_mean_mps2", _decel, _BASE + ("accel_mps2",), "mean deceleration in [t_b, t_b + 2 s]"),
     ("blowout_detection_time_s", _detect_time, _BASE + ("blowout_detected_wheel_index",), "detection time after t_b"),
     ("blowout_detected_wheel_index", lambda t, d: float(np.max(d)), ("blowout_detected_wheel_index",),

@@ -256,6 +256,20 @@ FALSIFY_BUDGET = 48  # CMA-ES evaluations per requirement (5-s runs; keeps repro
 FALSIFY_SEED = 2026
 
 
+def _lane_counts(res) -> str:
+    """The absolute lane result of a false-alarm campaign's evaluations (requirement stay_in_lane's boundary): how many
+    points left the lane with the function, how many without it (the twin), and the largest exceedance of each."""
+    m = "blowout_lane_exceedance_m"
+    a = [float(e.metrics.get(m, float("nan"))) for e in res.evaluations]
+    b = [float(e.baseline_metrics.get(m, float("nan"))) for e in res.evaluations]
+    out_a = [x for x in a if x > 0.0]
+    out_b = [x for x in b if x > 0.0]
+    both = sum(1 for x, y in zip(a, b) if x > 0.0 and y > 0.0)
+    return (f"; absolute lane (stay_in_lane) over the {len(a)} points: out of the lane with the function at "
+            f"{len(out_a)} (max {max(out_a, default=0.0):.3f} m beyond the marking), without it at {len(out_b)} (max "
+            f"{max(out_b, default=0.0):.3f} m), both at {both}")
+
+
 def falsify_extra(out_dir: Path):
     """Falsification of data/requirements/tire_blowout.toml over data/envelopes/tire_blowout.toml (the paper's
     feed-forward) and tire_blowout_closed_loop.toml (the optional yaw-rate correction) (issue #10: requirements
@@ -269,11 +283,15 @@ def falsify_extra(out_dir: Path):
                      ("tire_blowout_closed_loop", "tire_blowout.no_worse_than_no_compensation"),
                      ("tire_blowout_closed_loop", "tire_blowout.stay_in_lane"),
                      # issue #10 'Faults': a FALSE TPMS alarm (no blowout) over data/envelopes/tire_blowout_false_alarm.toml
-                     ("tire_blowout_false_alarm", "tire_blowout.stay_in_lane")):
+                     # must not pull the car off its lane: the departure the function adds to its twin's (the envelope
+                     # holds braking drivers with the wheel fixed in low-friction curves who leave the lane without any
+                     # function; the absolute exceedance of both is reported in the entry)
+                     ("tire_blowout_false_alarm", "tire_blowout.no_lane_departure_caused")):
         res = run_falsification(env, rid, budget=FALSIFY_BUDGET, seed=FALSIFY_SEED, optimizer="cma", batch=8,
                                 progress=False)
         paths = write_falsification(res, Path(out_dir) / f"falsify_{env}_{rid.split('.')[-1]}")
         cex = res.counterexample
+        lane = _lane_counts(res) if env == "tire_blowout_false_alarm" else ""
         if cex is not None:
             figures.append((f"paper 004: counterexample of {rid} ({env})", paths["plot"]))
             why = (f"counterexample after {res.evaluations_to_first} evaluations at [{res.envelope.point_name(cex.point)}]; "
@@ -284,10 +302,11 @@ def falsify_extra(out_dir: Path):
                         "'Faults'; review RG2's 640-point grid: 16 points where the compensated car leaves the lane and "
                         "the car without the function stays in it; tests/verification/test_blowout_false_alarm_envelope.py "
                         "strict xfail at RG2 k=664)")
+            why += lane
             value = cex.robustness
         else:
             why = (f"CMA-ES seed {FALSIFY_SEED}, {len(res.evaluations)} evaluations; minimum robustness at "
-                   f"[{res.envelope.point_name(res.best.point)}]; requirement: {res.requirement.why}")
+                   f"[{res.envelope.point_name(res.best.point)}]; requirement: {res.requirement.why}{lane}")
             value = res.best.robustness
         entries.append({"paper": "004", "scenario": f"falsification of {rid} over {env} (budget {FALSIFY_BUDGET}, seed {FALSIFY_SEED})",
                         "criterion": f"no counterexample in {FALSIFY_BUDGET} evaluations (robustness: minimum found)",

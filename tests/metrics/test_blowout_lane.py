@@ -1,0 +1,49 @@
+"""The false-alarm lane requirement (issue #10 'Faults': a false detection must not pull the car off its lane) and the
+metric it reads, against hand-computed closed forms: the lane boundary is (3.75 m lane, JTG B01-2014 - 1.794 m BJ2500
+width) / 2 = 0.978 m, written here as numbers, not imported from the code under test."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import vehicle_assist.metrics.blowout  # noqa: F401  (registers the blowout metrics)
+from vehicle_assist.core.trace import Trace
+from vehicle_assist.metrics.common import compute_metrics
+from vehicle_assist.verification.requirements import comparative_robustness, load_requirement_file
+
+BOUNDARY_M = (3.75 - 1.794) / 2.0  # 0.978 m
+
+
+def lane_trace(peak_m: float, sign: float = 1.0) -> Trace:
+    """A sine drift of the lane offset to +-peak_m and back (1 ms samples, 4 s)."""
+    t = np.arange(0.0, 4.0 + 5e-4, 1e-3)
+    return Trace({"time_s": t, "lane_offset_m": sign * peak_m * np.sin(np.pi * t / 4.0)})
+
+
+@pytest.mark.parametrize("peak_m,sign,expected_m", [
+    (0.5, 1.0, 0.0),                    # inside the lane
+    (1.2, 1.0, 1.2 - 0.978),            # 0.222 m beyond the left marking
+    (1.5, -1.0, 1.5 - 0.978),           # 0.522 m beyond the right marking (sign does not matter)
+])
+def test_lane_exceedance_is_the_distance_beyond_the_marking(peak_m, sign, expected_m):
+    m = compute_metrics(lane_trace(peak_m, sign), ["blowout_lane_exceedance_m"])
+    assert m["blowout_lane_exceedance_m"] == pytest.approx(expected_m, abs=1e-6)
+
+
+def test_caused_departure_holds_inside_the_lane_and_when_the_twin_is_further_out():
+    req = load_requirement_file("tire_blowout")["tire_blowout.no_lane_departure_caused"]
+    assert req.comparative
+
+    def rob(function_peak_m, twin_peak_m):
+        f = compute_metrics(lane_trace(function_peak_m), [req.metric])
+        b = compute_metrics(lane_trace(twin_peak_m), [req.metric])
+        return comparative_robustness(req, f, b)
+
+    # both inside the lane: holds, whatever the difference (never-worse is another requirement)
+    assert rob(0.9, 0.1) == pytest.approx(0.0, abs=1e-9)
+    # the twin leaves by 0.522 m, the function by 0.222 m: holds with 0.3 m to spare
+    assert rob(1.2, 1.5) == pytest.approx(0.3, abs=1e-6)
+    # the twin stays in, the function leaves by 0.022 m: the function caused the departure - violated
+    assert rob(1.0, 0.5) == pytest.approx(-(1.0 - BOUNDARY_M), abs=1e-6)
+    # both leave, the function further by 0.1 m: violated by the added 0.1 m
+    assert rob(1.6, 1.5) == pytest.approx(-0.1, abs=1e-6)
