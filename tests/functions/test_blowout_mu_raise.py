@@ -408,6 +408,9 @@ def test_dump_window_reading_is_the_least_squares_slope_and_its_noise_the_closed
         got.append(a_w)
     closed = sig_v / (DT * math.sqrt(n * (n * n - 1) / 12.0))
     assert np.std(got) == pytest.approx(closed, rel=0.03)
+    sw = bc.initial_state()
+    sw[bc.S_BUF_LAST], sw[bc.S_BUF_FILL] = n - 2, n - 1  # window not full yet: no reading, no raise
+    assert bc.dump_window_reading(sw, FR, 40.0e5, DT) == (0.0, 0.0)
     assert bc.dump_window_decel_sigma_mps2(params, DT) == pytest.approx(closed)
 
 

@@ -510,11 +510,12 @@ def dump_window_reading(st, i, p_now, dt):
     inside the window. Noise: white speed noise sigma_v per sample gives the slope the standard error
     sigma_v/sqrt(sum (t_j - t_bar)^2) = sigma_v/(dt*sqrt(m*(m^2 - 1)/12)) (ordinary least squares, Var(b) =
     sigma^2/S_tt; e.g. Montgomery, Peck and Vining, Introduction to Linear Regression Analysis, sec. 2.2): 0.154*sigma_v/dt
-    at m = 8, 6.5 x less than the one-period difference and 4.6 x less than ABS's 3-sample slope."""
+    at m = 8, 6.5 x less than the one-period difference and 4.6 x less than ABS's 3-sample slope. Before the window
+    is full (the first WS_WINDOW_N - 1 periods of a run) no reading: (0, 0) - no force proven, no raise."""
     n = WS_WINDOW_N
     m = int(st[S_BUF_FILL])
-    if m < 2:
-        return p_now, 0.0
+    if m < n:
+        return 0.0, 0.0
     k = int(st[S_BUF_LAST])
     norm = m * (m * m - 1) / 6.0
     p_w = 0.0
