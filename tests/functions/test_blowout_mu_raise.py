@@ -408,6 +408,10 @@ def test_dump_window_reading_is_the_least_squares_slope_and_its_noise_the_closed
         got.append(a_w)
     closed = sig_v / (DT * math.sqrt(n * (n * n - 1) / 12.0))
     assert np.std(got) == pytest.approx(closed, rel=0.03)
+    # the wheel went back to W_N 5 ms before the dump: the estimate stepped 53 -> 168 bar at once, the wheel had not
+    # (findings_F.md I1, panic stop 80 km/h mu 0.45 pad 0.7, 5.635 s): the last interval counts at its start pressure
+    sw[bc.S_P_BUF + FR * n:bc.S_P_BUF + FR * n + n] = 53.2e5
+    assert bc.dump_window_reading(sw, FR, 167.8e5, DT)[0] == pytest.approx(53.2e5)
     sw = bc.initial_state()
     sw[bc.S_BUF_LAST], sw[bc.S_BUF_FILL] = n - 2, n - 1  # window not full yet: no reading, no raise
     assert bc.dump_window_reading(sw, FR, 40.0e5, DT) == (0.0, 0.0)
@@ -416,7 +420,7 @@ def test_dump_window_reading_is_the_least_squares_slope_and_its_noise_the_closed
 
 def test_abs_dump_raise_under_envelope_noise_never_exceeds_the_true_mu(params):
     """abs_dump_noise_flag: the dump reading with 0.3 rad/s white noise on the measured speeds (96 locking cases x 150
-    seeded draws) never claims more force than the true mu*F_z (measured worst 0.905; noise-free 0.864)."""
+    seeded draws) never claims more force than the true mu*F_z (measured worst 0.881; noise-free 0.851)."""
     ratios, worst, arg = noisy_dump_scan(params)
     assert worst <= 1.0 + 1e-9, (f"raised {worst:.3f} x the true mu at (mu, gain, C_x, s_d, a_d) = {arg}; "
                                  f"{np.mean(ratios > 1.0):.1%} of draws above")
@@ -433,10 +437,11 @@ def test_abs_dump_raise_under_noise_over_states_with_the_3_sample_reading():
 def test_abs_dump_window_reading_not_vacuous(params):
     """The noise-robust reading is not vacuous: noise-free, nominal pad (gain 1), the raise from 0.01 reaches at least
     0.4 x the true mu when the wheel was past its linear region over the whole window (slip 20 % at the dump; measured
-    0.43-0.50) and 0.15 x where the window starts in the linear region (6 % at the dump after a 60 m/s^2 onset: the
-    window began at ~1.5 % slip, its mean force is low; measured 0.15-0.41; the 3-sample reading 0.29-0.47). The fade
-    edge 0.66, the 3-sigma noise allowance and the ECU's load bound are in every number."""
+    0.40-0.50) and 0.1 x where the window starts in the linear region (6 % at the dump after a 30-60 m/s^2 onset: the
+    window began at 1.5-4 % slip and its pressure rose by the spin-down's J*a_w/R in 35 ms - its mean force, each
+    interval at its lower end pressure, is low; measured 0.11-0.40; the 3-sample reading 0.29-0.47). The fade edge 0.66,
+    the 3-sigma noise allowance and the ECU's load bound are in every number."""
     ratios, _, _ = noisy_dump_scan(params, noise_radps=0.0, draws=1, force=False)
     for (mu, gs, kc, s_d, a_d), rr in zip(NOISY_GRID, ratios):
         if gs == 1.0:
-            assert rr >= (0.4 if s_d >= 0.2 else 0.15), (mu, kc, s_d, a_d, rr)
+            assert rr >= (0.4 if s_d >= 0.2 else 0.1), (mu, kc, s_d, a_d, rr)
