@@ -422,7 +422,7 @@ def test_abs_dump_raise_under_envelope_noise_never_exceeds_the_true_mu(params):
     """abs_dump_noise_flag: the dump reading with 0.3 rad/s white noise on the measured speeds (96 locking cases x 150
     seeded draws) never claims more force than the true mu*F_z (measured worst 0.881; noise-free 0.851)."""
     ratios, worst, arg = noisy_dump_scan(params)
-    assert worst <= 1.0 + 1e-9, (f"raised {worst:.3f} x the true mu at (mu, gain, C_x, s_d, a_d) = {arg}; "
+    assert worst <= 1.0 + 1e-9, (f"claims {worst:.3f} x the true mu*F_z at (mu, gain, C_x, s_d, a_d) = {arg}; "
                                  f"{np.mean(ratios > 1.0):.1%} of draws above")
 
 
