@@ -324,7 +324,15 @@ S_LOCK_FALL = S_LOCK_PREV + 1
 # abs_dump_bound_flag: the compensating wheel's measured deceleration [m/s^2, wheel circumference, > 0 = slowing] at
 # the start of the ABS dump that set S_P_PREDUMP (functions/esp.py writes both at the same period)
 S_AW_PREDUMP = S_LOCK_FALL + 1
-STATE_SIZE = S_AW_PREDUMP + 1
+# abs_dump_noise_flag: the same dump's reading over the whole wheel-signal window (``dump_window_reading``, written by
+# functions/esp.py with S_P_PREDUMP): the ECU's pressure estimate [Pa] and the wheel's deceleration [m/s^2, > 0 =
+# slowing], both weighted with the least-squares slope's interval weights
+S_P_DUMPWIN = S_AW_PREDUMP + 1
+S_AW_DUMPWIN = S_P_DUMPWIN + 1
+STATE_SIZE = S_AW_DUMPWIN + 1
+DUMP_NOISE_SIGMAS = 3.0  # assumed (abs_dump_noise_flag): the dump reading's deceleration is taken 3 sigma of its
+#   white-noise error above the reading (one-sided Gaussian: exceeded in 0.13 % of readings by noise alone), sigma from
+#   the design wheel-speed noise blowout_compensation.abs_dump_speed_noise_radps (``dump_window_reading``)
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -486,6 +494,55 @@ def wheel_accel_mps2(st, i, dt, window=WS_WINDOW_N):
         num += tj * st[S_VW_BUF + i * n + (k - j) % n]
         den += tj * tj
     return num / (den * max(dt, 1e-6))
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def dump_window_reading(st, i, p_now, dt):
+    """(pressure [Pa], deceleration [m/s^2, > 0 = slowing]) of wheel i over the wheel-signal window, for the ABS dump
+    reading (``abs_dump_noise_flag``; called by functions/esp.py at the dump's start, after ``reference_step`` pushed
+    this period's speeds and BEFORE ``blowout_step`` pushes this period's pressures: ``p_now`` is the estimate of the
+    last interval). The least-squares slope of m speed samples equals a weighted mean of the m - 1 one-period
+    differences, sum_q w_q*(v_q - v_q+1)/dt with w_q = 6*(q + 1)*(m - 1 - q)/(m*(m^2 - 1)) > 0, sum w_q = 1 (summation
+    by parts of the slope's coefficients (t_j - t_bar)/sum (t - t_bar)^2); each interval's pressure is the LOWER of the
+    estimates at its two ends: under one valve state a wheel's pressure moves monotonically toward its source (filling /
+    emptying through an orifice), so over the interval it is at least the lower end - and the estimate steps to the
+    source pressure at once when the wheel goes back to W_N (functions/esp.py ``_estimate``) while the wheel still lags
+    (findings_F.md I1: a dump 5 ms after such a step, 167.8 bar estimated vs 53.6 bar in the wheel). The wheel's spin balance J*omega_dot = F_x*R - T_b holds in
+    every interval, so with the same weights sum w_q*F_x,q*R = K_b*g*p_w - J*a_w/R: a weighted mean of the road force,
+    and F_x <= mu*F_z at every instant makes it a lower bound of mu*F_z (tire_blowout.md 2.3) whatever the wheel did
+    inside the window. Noise: white speed noise sigma_v per sample gives the slope the standard error
+    sigma_v/sqrt(sum (t_j - t_bar)^2) = sigma_v/(dt*sqrt(m*(m^2 - 1)/12)) (ordinary least squares, Var(b) =
+    sigma^2/S_tt; e.g. Montgomery, Peck and Vining, Introduction to Linear Regression Analysis, sec. 2.2): 0.154*sigma_v/dt
+    at m = 8, 6.5 x less than the one-period difference and 4.6 x less than ABS's 3-sample slope. Before the window
+    is full (the first WS_WINDOW_N - 1 periods of a run) no reading: (0, 0) - no force proven, no raise."""
+    n = WS_WINDOW_N
+    m = int(st[S_BUF_FILL])
+    if m < n:
+        return 0.0, 0.0
+    k = int(st[S_BUF_LAST])
+    norm = m * (m * m - 1) / 6.0
+    p_w = 0.0
+    a_w = 0.0
+    for q in range(m - 1):  # interval q from time index q to q + 1 (time index q is m - 1 - q periods old)
+        w = (q + 1) * (m - 1 - q) / norm
+        j_old = m - 1 - q
+        j_new = m - 2 - q
+        v_old = st[S_VW_BUF + i * n + (k - j_old) % n]
+        v_new = st[S_VW_BUF + i * n + (k - j_new) % n]
+        a_w += w * (v_old - v_new) / max(dt, 1e-6)
+        p_end = p_now if j_new == 0 else st[S_P_BUF + i * n + (k - j_new) % n]
+        p_start = st[S_P_BUF + i * n + (k - j_old) % n]
+        p_w += w * min(p_start, p_end)
+    return p_w, a_w
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def dump_window_decel_sigma_mps2(p, dt):
+    """1 sigma [m/s^2] of ``dump_window_reading``'s deceleration at the design wheel-speed noise
+    (abs_dump_speed_noise_radps, white, per sample) over a full window: sigma_v/(dt*sqrt(N*(N^2 - 1)/12))."""
+    n = WS_WINDOW_N
+    sigma_v = p.blowout_compensation_abs_dump_speed_noise_radps * p.body_wheel_radius_m
+    return sigma_v / (max(dt, 1e-6) * math.sqrt(n * (n * n - 1) / 12.0))
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -2019,7 +2076,18 @@ def measured_mu_raise(st, tg, v_ref, braking, p_est, gain, p, dt, a_x=0.0, a_y=0
                 and st[S_P_PREDUMP] > 0.0):
             # (front_abs_limit_flag) ABS found the wheel's limit: the force at the dump's start at the fade edge of
             # the pad gain, with the wheel's deceleration, is a lower bound of mu*F_z (friction circle, spec 2.3)
-            if p.blowout_compensation_abs_dump_bound_flag > 0.5:
+            if (p.blowout_compensation_abs_dump_bound_flag > 0.5
+                    and p.blowout_compensation_abs_dump_noise_flag > 0.5):
+                # (abs_dump_noise_flag, 0 = seeded defect = the reading below) the same friction circle over the
+                # window before the dump (``dump_window_reading``: weighted mean force = a lower bound of mu*F_z),
+                # its deceleration taken DUMP_NOISE_SIGMAS of the design noise high: the 3-sample a_w below has
+                # sigma 15 m/s^2 at 0.3 rad/s (140 N, 7 % of the force per sigma; findings_F.md RH3: above the plant's
+                # F_x in 40 % of noisy draws)
+                a_hi = st[S_AW_DUMPWIN] + DUMP_NOISE_SIGMAS * dump_window_decel_sigma_mps2(p, dt)
+                t_lo = p.blowout_compensation_brake_gain_fade_low_frac * gain * st[S_P_DUMPWIN]
+                t_lo -= p.body_wheel_inertia_kgm2 * max(a_hi, 0.0) / p.body_wheel_radius_m
+                mu_dump = max(t_lo, 0.0) / p.body_wheel_radius_m / max(fz_hi, 1.0)
+            elif p.blowout_compensation_abs_dump_bound_flag > 0.5:
                 # (abs_dump_bound_flag, 0 = seeded defect = the line below) the friction circle alone, F_x <= mu*F_z,
                 # with the force AT the dump's start: the brake torque at the fade gain less the wheel's own spin-down
                 # J*a_w/R then (J*omega_dot = F_x*R - T_b). The Dugoff factor 2/(1 + sqrt(1 - f)) needs the slip of

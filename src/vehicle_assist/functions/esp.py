@@ -429,6 +429,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # lock level (predump_slip_flag: a noise-triggered deceleration dump at 2.8 % slip latched 31 of 64 bar)
             bst[bc.S_P_PREDUMP] = wheels[i, A_P_EST]
             bst[bc.S_AW_PREDUMP] = a_w  # the wheel's deceleration at that pressure (abs_dump_bound_flag)
+            # ... and over the window before it, noise-robust (abs_dump_noise_flag; pressures of this period not pushed yet)
+            bst[bc.S_P_DUMPWIN], bst[bc.S_AW_DUMPWIN] = bc.dump_window_reading(bst, i, wheels[i, A_P_EST], dt)
         elif (new == abs_fn.OFF and mode != abs_fn.OFF and i == comp_wheel
               and p.blowout_compensation_braking_rule_flag > 0.5):
             # ABS let the wheel go (build_idle: no hold/dump for abs_idle_time_s), so the dump's pressure is no lock

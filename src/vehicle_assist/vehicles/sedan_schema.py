@@ -313,6 +313,14 @@ class SedanBlowoutCompensation(Strict):
     # braking lock floor only with blown_front_hold_flag (its premise: the blown inner front held, not released);
     # 0 = seeded defect (the floor acts whatever blown_front_hold_flag)
     braking_lock_premise_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # abs_dump_bound_flag's reading robust to wheel-speed noise: the window's weighted-mean pressure and least-squares
+    # deceleration at the dump's start (a weighted mean of the force, F_x <= mu*F_z at every instant; each interval's
+    # pressure at the lower end estimate), the deceleration taken 3 sigma of the design noise high; 0 = seeded defect (the 3-sample a_w: sigma 15 m/s^2 at 0.3 rad/s, above
+    # the plant's F_x in 40 % of noisy draws, findings_F.md RH3)
+    abs_dump_noise_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # assumed: design white wheel-speed noise per ESP sample [rad/s] = the envelope's upper end (tire_blowout envelope
+    # wheel_speed_noise: ~0.23 rad/s from a 0.5 % tooth-pitch error, 0.3 with margin)
+    abs_dump_speed_noise_radps: Annotated[float, Field(ge=0)] = 0.3
 
     @model_validator(mode="after")
     def _order(self):
