@@ -167,7 +167,7 @@ def test_held_wheel_past_the_peak_code_before(params, over):
 @pytest.mark.parametrize("flag", [1, 0])
 def test_stable_side_hold_left_alone(params, flag):
     """Dry asphalt (peak 17 %), a driver pressure that holds the wheel between L_HOLD and the peak: on the stable side
-    the held wheel settles at a constant slip, the wheel re-accelerates relative to nothing - the rule makes no step."""
+    the held wheel settles at a constant slip (its window means stop rising) - the rule makes no step."""
     p = params[flag]
     c = DRY
     k_b = brake_gain(c)
