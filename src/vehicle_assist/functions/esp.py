@@ -21,8 +21,9 @@ Per period:
 2. Pressure-sensor health: valid flag from the sensor, plus plausibility against the brake-light switch
    (switch on with p_mc below ``plausibility_pressure`` for ``plausibility_time``, or off with p_mc above it,
    latches a fault).
-3. ABS per wheel (functions/abs.py), then select-low on the rear axle (both rear wheels follow the more
-   critical one) and the yaw-moment build-up delay (GMA) on split-mu: while ABS cycles on one front wheel
+3. ABS per wheel (functions/abs.py; with ``abs_hold_limit_flag`` - shipped 0, a candidate - a hold above L_HOLD whose
+   wheel does not re-accelerate ends in a dump step, ``abs_hold_limit``), then select-low on the rear axle (both rear
+   wheels follow the more critical one) and the yaw-moment build-up delay (GMA) on split-mu: while ABS cycles on one front wheel
    only, the other front wheel builds in short pulses (``gma_pulse_s`` every ``gma_cycle_s``) for
    ``gma_duration_s``, so the yaw moment of the brake-force difference grows slowly enough for the driver;
    for the rest of the stop the yaw rate limits it (yaw toward the high-mu side above ``yaw_hold_rate``:
