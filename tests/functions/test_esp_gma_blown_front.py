@@ -129,7 +129,7 @@ def _dev98(flag: int | None, baseline: bool = False, *later_off: str):
     sc = load_envelope("tire_blowout").scenario(POINT_98, baseline=baseline)
     if flag is not None:
         sc = sc.with_sets(f"vehicle.blowout_compensation.predump_slip_flag={flag}",
-                          *[f"vehicle.blowout_compensation.{name}=0" for name in later_off])
+                          *[f"vehicle.{name if '.' in name else 'blowout_compensation.' + name}=0" for name in later_off])
     return va.simulate(sc, requirements=False).metrics[METRIC]
 
 
@@ -150,4 +150,6 @@ def test_falsifier_point_98_worse_than_none_with_the_defect(none_98):
     # Measured: 14.80 m vs none 11.79 m at the time of the fix (both runs spin toward the blown side); 13.99 m at
     # session f with rear_oversteer_flag 0
     # (front_spin_keep_flag, session g G5, also rescues it: the spin toward FL is no longer refused - off as well)
-    assert _dev98(0, False, "rear_oversteer_flag", "front_spin_keep_flag") > none_98
+    # (esp.abs_hold_limit_flag, session i I5, rescues it too: its dump steps of a held wheel that does not re-accelerate
+    # take the defect to 10.23 m vs none 11.79 - off as well; 13.99 m with it off)
+    assert _dev98(0, False, "rear_oversteer_flag", "front_spin_keep_flag", "esp.abs_hold_limit_flag") > none_98

@@ -49,6 +49,9 @@ def test_gma_follow_dry_wet_split_hba_heading_not_worse(speed_kph):
 
 
 REAR_DEFECT = "vehicle.esp.hba_rear_select_low_flag=0"  # seeded defect: each rear pumped with its circuit's front
+# the ABS hold's time limit (esp.abs_hold_limit_flag, session i I5) steps the over-pumped dry rear down and hides the
+# defect (80 km/h: 1.79 vs 2.27 deg with it, 3.15 without): the negative control runs on the ABS before that rule
+HOLD_RULE_OFF = "vehicle.esp.abs_hold_limit_flag=0"
 
 
 @pytest.mark.parametrize("speed_kph", [80, 100])
@@ -64,7 +67,7 @@ def test_dry_wet_split_hba_heading_not_worse_with_rear_select_low(speed_kph):
         on["heading_max_deg"], off["heading_max_deg"])
     if speed_kph == 80:  # negative control
         sets = ['vehicle.surface.left="dry"', 'vehicle.surface.right="wet"', f"run.initial_speed_kph={speed_kph}",
-                REAR_DEFECT]
+                REAR_DEFECT, HOLD_RULE_OFF]
         bad = va.simulate(va.load_scenario(SPLIT, sets=sets)).metrics
         assert bad["heading_max_deg"] > max(HEADING_FLOOR_DEG, off["heading_max_deg"]), (
             bad["heading_max_deg"], off["heading_max_deg"])

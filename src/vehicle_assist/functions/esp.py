@@ -21,8 +21,9 @@ Per period:
 2. Pressure-sensor health: valid flag from the sensor, plus plausibility against the brake-light switch
    (switch on with p_mc below ``plausibility_pressure`` for ``plausibility_time``, or off with p_mc above it,
    latches a fault).
-3. ABS per wheel (functions/abs.py), then select-low on the rear axle (both rear wheels follow the more
-   critical one) and the yaw-moment build-up delay (GMA) on split-mu: while ABS cycles on one front wheel
+3. ABS per wheel (functions/abs.py; with ``abs_hold_limit_flag`` - shipped 0, a candidate - a hold above L_HOLD whose
+   wheel does not re-accelerate ends in a dump step, ``abs_hold_limit``), then select-low on the rear axle (both rear
+   wheels follow the more critical one) and the yaw-moment build-up delay (GMA) on split-mu: while ABS cycles on one front wheel
    only, the other front wheel builds in short pulses (``gma_pulse_s`` every ``gma_cycle_s``) for
    ``gma_duration_s``, so the yaw moment of the brake-force difference grows slowly enough for the driver;
    for the rest of the stop the yaw rate limits it (yaw toward the high-mu side above ``yaw_hold_rate``:
@@ -117,8 +118,10 @@ CTL_SIZE = 19
 # while braking latched the GMA on the healthy wheel it had released, 3-10 bar for ~1 s, 1.12 m off the lane)
 # per-wheel state (rows fl, fr, rl, rr)
 A_MODE, A_BUILD_S, A_VW_PREV, A_SINCE_HD_S, A_LOGGED, A_SLIP, A_DECEL, A_REQUEST, A_WHEEL_MODE, A_P_EST, \
-    A_INLET_OPEN_S, A_ABS_QUIET_S, A_VALVE_QUIET_S = range(13)
-WHEEL_STATE_SIZE = 13
+    A_INLET_OPEN_S, A_ABS_QUIET_S, A_VALVE_QUIET_S, A_HOLD_S, A_HOLD_SUM, A_HOLD_PREV = range(16)
+WHEEL_STATE_SIZE = 16
+# A_HOLD_S / A_HOLD_SUM: time and slip integral of the present window of an ABS hold above the hold slip; A_HOLD_PREV:
+# the previous window's mean slip (-1: none yet) - esp.abs_hold_limit_flag, abs_hold_limit
 # A_ABS_QUIET_S: time since the wheel's ABS mode was last other than OFF (hold, dump or build); A_VALVE_QUIET_S: time
 # since its ABS mode was last other than OFF or its valve mode other than N/B (inlet closed, outlet open, pulsed)
 
@@ -129,6 +132,7 @@ def initial_state() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     wheels[:, A_SINCE_HD_S] = 1e9
     wheels[:, A_ABS_QUIET_S] = 1e9
     wheels[:, A_VALVE_QUIET_S] = 1e9
+    wheels[:, A_HOLD_PREV] = -1.0
     ctl = np.zeros(CTL_SIZE)
     ctl[C_REF_EXCLUDED] = -1.0
     return ctl, wheels, hba.initial_state()
@@ -301,6 +305,42 @@ def abs_wheel_decel_mps2(bst, i, dt):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def abs_hold_limit(wheels, i, new, slip, p, dt):
+    """The ABS hold's time limit (``esp.abs_hold_limit_flag``): the mode of wheel i after ``new`` (abs_fn.abs_step's
+    decision), and True when this rule turned a hold into a dump step.
+
+    Bosch's ABS control cycle holds the pressure only while it waits for the wheel to re-accelerate; a wheel that
+    does not re-accelerate under the held pressure is still heading for lock and the pressure is reduced again, in
+    steps (Bosch Automotive Handbook, ABS control cycle, braking on a slippery road: hold for a time T1, then
+    stepwise reduction while the +a signal does not come; workshop descriptions of the cycle: slip still increasing
+    during the hold -> pressure reduction). abs.py's hold ends only at the dump slip L_DUMP or back at L_HOLD with
+    the wheel turning with the car: a wheel held between them past the friction peak loses lateral force for as long
+    as its slip creeps toward L_DUMP (RH2: 1.1 s at 12-18.5 % slip, 35.9 bar). Here, during a hold with the slip
+    above L_HOLD, every ``abs_hold_window_s`` the window's mean slip is compared with the previous window's: risen
+    by more than ``abs_hold_slip_rise_frac`` (the wheel slowing relative to the car: no re-acceleration) -> a dump
+    step of one ESP period (the next period abs.py's slip_recovering makes it a hold again, the windows restart). A
+    held wheel on the stable side of the mu-slip curve settles at a constant slip (constant pressure, brake torque
+    balanced by a friction below the peak) and is left alone."""
+    if new != abs_fn.HOLD or slip <= p.esp_abs_hold_slip_frac:
+        wheels[i, A_HOLD_S] = 0.0
+        wheels[i, A_HOLD_SUM] = 0.0
+        wheels[i, A_HOLD_PREV] = -1.0
+        return new, False
+    wheels[i, A_HOLD_S] += dt
+    wheels[i, A_HOLD_SUM] += slip * dt
+    if wheels[i, A_HOLD_S] >= p.esp_abs_hold_window_s - 1e-9:
+        mean = wheels[i, A_HOLD_SUM] / wheels[i, A_HOLD_S]
+        prev = wheels[i, A_HOLD_PREV]
+        wheels[i, A_HOLD_S] = 0.0
+        wheels[i, A_HOLD_SUM] = 0.0
+        wheels[i, A_HOLD_PREV] = mean
+        if prev >= 0.0 and mean > prev + p.esp_abs_hold_slip_rise_frac:
+            wheels[i, A_HOLD_PREV] = -1.0
+            return abs_fn.DUMP, True
+    return new, False
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def reference_update(ctl, vw_arr, v_plaus, ref_changed, bls, a_x, valve_quiet_s, p, dt):
     """The reference speed of this period from the plausible wheels' max ``v_plaus`` (module doc, step 1): the fall
     bound (accelerometer + margin) always, the rise bounds while braking (``reference_braking_plausibility_flag``,
@@ -422,6 +462,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                                       p.esp_abs_hold_slip_frac, p.esp_abs_dump_decel_mps2, p.esp_abs_rebuild_decel_mps2,
                                       p.esp_abs_idle_time_s,
                                       abs_fn.TABLE, abs_guards)
+        if p.esp_abs_hold_limit_flag > 0.5:
+            new, stepped = abs_hold_limit(wheels, i, new, slip, p, dt)
+            if stepped:
+                reason = abs_fn.G_LOCK  # a held wheel that does not re-accelerate is heading for lock (abs_hold_limit)
         if (new == abs_fn.DUMP and mode != abs_fn.DUMP and i == comp_wheel
                 and p.blowout_compensation_braking_rule_flag > 0.5
                 and (slip > p.esp_abs_hold_slip_frac or p.blowout_compensation_predump_slip_flag < 0.5)):

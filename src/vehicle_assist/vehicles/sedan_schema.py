@@ -135,6 +135,12 @@ class SedanEsp(Strict):
     hba_master_rebuild_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: pump re-build undecided)
     hba_rampout_pumped_only_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: ramp-out unpumped)
     abs_signal_filter_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (#10 F2: raw-differenced wheel decel)
+    # 1 = an ABS hold above L_HOLD whose window-mean slip keeps rising (no re-acceleration) ends in a dump step (Bosch
+    # ABS cycle: stepwise reduction while the wheel does not re-accelerate; RH2: held 1.1 s at 12-18.5 % slip) - a
+    # candidate NOT enabled (6 blowout checks go red with it, findings_F.md I5); 0 = the code before (shipped)
+    abs_hold_limit_flag: Annotated[int, Field(ge=0, le=1)] = 0
+    abs_hold_window_s: Annotated[float, Field(gt=0, le=1)] = 0.1
+    abs_hold_slip_rise_frac: Annotated[float, Field(ge=0, lt=1)] = 0.005
     reference_decel_margin_mps2: Annotated[float, Field(ge=0, le=10)]
     # wheel-signal plausibility of the reference speed (implausibly fast wheel left out); 0 = defect (max of the four)
     reference_plausibility_flag: Annotated[int, Field(ge=0, le=1)] = 1
