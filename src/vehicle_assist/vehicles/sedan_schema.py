@@ -313,6 +313,9 @@ class SedanBlowoutCompensation(Strict):
     # braking lock floor only with blown_front_hold_flag (its premise: the blown inner front held, not released);
     # 0 = seeded defect (the floor acts whatever blown_front_hold_flag)
     braking_lock_premise_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # a TPMS-path detection (TPMS alone, driver braking) gets no compensation build until the released wheel's over-speed
+    # confirms it (second source); only the release acts before; 0 = seeded defect (the build at once, the code before)
+    single_source_build_flag: Annotated[int, Field(ge=0, le=1)] = 0
 
     @model_validator(mode="after")
     def _order(self):
