@@ -327,6 +327,9 @@ class SedanBlowoutCompensation(Strict):
     # assumed: design white wheel-speed noise per ESP sample [rad/s] = the envelope's upper end (tire_blowout envelope
     # wheel_speed_noise: ~0.23 rad/s from a 0.5 % tooth-pitch error, 0.3 with margin)
     abs_dump_speed_noise_radps: Annotated[float, Field(ge=0)] = 0.3
+    # a TPMS-path detection (TPMS alone, driver braking) gets no compensation build until the released wheel's over-speed
+    # confirms it (second source); only the release acts before. SHIPPED 0 (the code before): a candidate measured worse
+    single_source_build_flag: Annotated[int, Field(ge=0, le=1)] = 0
 
     @model_validator(mode="after")
     def _order(self):
