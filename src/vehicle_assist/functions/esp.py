@@ -508,7 +508,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     # (named_front_gma_flag) its ABS activity is no evidence of a split-mu road: it does not start the GMA on the other
     # front (as a known-blown front's does not: gma_blown_front_flag; ABS practice: a wheel whose speed signal is
     # implausible is no basis for the control of the others). 43 #30: the flat FR's ABS started the GMA on FL, held at
-    # 23 bar against the driver's 150 bar while the flat's drag turned the car toward FR
+    # 23 bar against the driver's 150 bar while the flat's drag turned the car toward FR. The other (intact) front's
+    # activity still counts: the GMA it starts lands on the named front - the wheel whose lock level ABS cannot find is
+    # treated as the side with the larger brake force, its build delayed and its yaw moment limited (measured: masking
+    # both fronts while one is named - no GMA at all - moved 15 points worse, a new violation r41 #469; findings I4)
     blk_n = named_f if p.esp_named_front_gma_flag > 0.5 else -1
     act0 = wheels[0, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 0 and blk_b != 0 and blk_r != 0 and blk_n != 0
     act1 = wheels[1, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 1 and blk_b != 1 and blk_r != 1 and blk_n != 1
@@ -554,6 +557,9 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     # pulses (R_GMA_PULSE, as the GMA's wheel), never by a step to the driver's pressure. Paper 004 P7 / spec 5: the
     # function's sequence starts at the detection; before it the named wheel is braked as by any ESP, whose yaw
     # limitation must then bound a brake force ABS cannot bound. 0 = the code before (its brake bounded by ABS alone).
+    # Shipped 0, a candidate NOT enabled: on the braking front points of session h's searches it fixes RG2 43 #30
+    # (-3.308 -> +2.534 m) but adds two violations (braking 47 #1 +0.405 -> -4.719 m, a spin; random 41 #407 +0.030
+    # -> -2.014 m) - findings_F.md "I4 (session i)".
     if p.esp_named_front_yaw_flag > 0.5 and named_f >= 0 and abs_allowed:
         toward_n = (meas.yaw_rate_radps - bc.reference_yaw_rate(meas.steering_angle_rad, v_ref, p)) * (
             1.0 if named_f == 0 else -1.0)
