@@ -132,6 +132,12 @@ class SedanEsp(Strict):
     # 1 = the TPMS-named wheel kept on the driver's pressure under HBA before the detection - a candidate NOT enabled
     # (it moves a violation, findings_F.md H5); 0 = the code before (shipped)
     hba_named_driver_flag: Annotated[int, Field(ge=0, le=1)] = 0
+    # a TPMS-named front (before the detection): its ABS activity does not start the GMA on the other front; 0 = the code
+    # before (findings_F.md I4)
+    named_front_gma_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # 1 = a TPMS-named front's brake bounded by the GMA's yaw limitation on the steered reference - a candidate NOT
+    # enabled (it adds violations, findings_F.md I4); 0 = the code before (shipped)
+    named_front_yaw_flag: Annotated[int, Field(ge=0, le=1)] = 0
     hba_master_rebuild_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: pump re-build undecided)
     hba_rampout_pumped_only_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: ramp-out unpumped)
     abs_signal_filter_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (#10 F2: raw-differenced wheel decel)
