@@ -313,6 +313,11 @@ class SedanBlowoutCompensation(Strict):
     # braking lock floor only with blown_front_hold_flag (its premise: the blown inner front held, not released);
     # 0 = seeded defect (the floor acts whatever blown_front_hold_flag)
     braking_lock_premise_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # blown_front_hold: the blown inner front let go once the yaw exceeds the steered reference toward it by more than
+    # the closed-loop dead band and held again once it falls short of it by more than the band, the last decision kept
+    # inside the band (relay with the dead band as its hysteresis); 0 = the code before (switched at the reference).
+    # Shipped 0: candidate (findings_F.md I3: new violations elsewhere)
+    blown_front_hold_band_flag: Annotated[int, Field(ge=0, le=1)] = 0
 
     @model_validator(mode="after")
     def _order(self):
