@@ -1491,9 +1491,9 @@ def blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p):
     ABS had dumped before the detection is re-built by it too (random 3 fl/fr-braking b64 #53: 1.2 -> 34-46 bar,
     0.49 -> 1.94 m, none 8.36; capping the re-build at the detection's pressure fixed that but re-opened braking 5
     #124 and 13 #45, 2.04 / 2.20 m vs none 1.34 / 2.00: not done)."""
-    if braking < 0.5 or b < 0 or b >= 2 or tg < 0 or tg >= 2 or tg == b:
-        return
-    if not (mode == BUILD or mode == HOLD or mode == LIMITED):
+    if (braking < 0.5 or b < 0 or b >= 2 or tg < 0 or tg >= 2 or tg == b
+            or not (mode == BUILD or mode == HOLD or mode == LIMITED)):
+        st[S_FH_RELEASED] = 0.0  # (blown_front_hold_band_flag) a new pedal application / compensation starts held
         return
     if st[S_ABS_ACTIVE + tg] < 0.5 and not (p.blowout_compensation_braking_lock_keep_flag > 0.5
                                             and p.blowout_compensation_braking_lock_floor_flag > 0.5
