@@ -336,6 +336,11 @@ class SedanBlowoutCompensation(Strict):
     # a TPMS-path detection (TPMS alone, driver braking) gets no compensation build until the released wheel's over-speed
     # confirms it (second source); only the release acts before. SHIPPED 0 (the code before): a candidate measured worse
     single_source_build_flag: Annotated[int, Field(ge=0, le=1)] = 0
+    # blown_front_hold: the blown inner front let go once the yaw exceeds the steered reference toward it by more than
+    # the closed-loop dead band and held again once it falls short of it by more than the band, the last decision kept
+    # inside the band (relay with the dead band as its hysteresis); 0 = the code before (switched at the reference).
+    # Shipped 0: candidate (findings_F.md I3: new violations elsewhere)
+    blown_front_hold_band_flag: Annotated[int, Field(ge=0, le=1)] = 0
 
     @model_validator(mode="after")
     def _order(self):
