@@ -1450,7 +1450,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         if p.blowout_compensation_understeer_flag > 0.5:
             understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, requests, p, dt, v_ref)
     if p.blowout_compensation_braking_rule_flag > 0.5:
-        braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref)
+        braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref, a_y_meas)
     return n_events
 
 
@@ -1608,7 +1608,7 @@ def understeer_restore(st, p, dt):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref=0.0):
+def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref=0.0, a_y_meas=0.0):
     """One rule for a FRONT blowout while the driver brakes (``braking_rule_flag``, 0 = seeded defect = the rules
     before; issue #10, falsifier random seed 7 #15/#16). Yaw-moment balance of the four brake forces with the blown
     front wheel unbraked (it only drags, D = mu_blow*F'_z, eqs. 22-25): M_z = b_f*(D - F_opp) + b_r*(F_rl - F_rr)
@@ -1707,6 +1707,16 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
             # front panic stop: 8 bar, 0.18 kN each vs the twin's 33 bar, 0.84 kN). ABS is the rears' limiter (select-
             # low pair: no moment), the oversteer caps below still act
             st[S_REAR_CAP] = -1.0
+            if (p.blowout_compensation_rear_accel_circle_flag > 0.5
+                    and abs(r_ref) > p.blowout_compensation_yaw_deadband_radps):
+                # (rear_accel_circle_flag, 0 = seeded defect = no cap) in a curve the rears carry the rear axle's
+                # lateral force: cap them at their friction circle (Kamm) at the friction the car's measured
+                # acceleration proves, mu >= |a|/g = sqrt(a_x^2 + a_y^2)/g (sum over the wheels |F_i| >= m*|a|,
+                # sum mu*F_z = mu*m*g), which rises with the stop - not at the front wheel's lower bound alone
+                mu_acc = max(mu, math.sqrt(a_x * a_x + a_y_meas * a_y_meas) / 9.81)
+                c_rl = wheel_circle_limit_mu(2, gl[2], a_y_ref, mu_acc, b, p)
+                c_rr = wheel_circle_limit_mu(3, gl[3], a_y_ref, mu_acc, b, p)
+                st[S_REAR_CAP] = min(c_rl, c_rr) * r_w / p.brakes_rear_gain_nm_per_pa
     if p.blowout_compensation_rear_oversteer_flag > 0.5:
         rear_oversteer_cap(st, b, yaw_rate, p_est, p, r_ref, mode)
 
