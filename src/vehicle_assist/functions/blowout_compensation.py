@@ -1708,11 +1708,16 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
             # low pair: no moment), the oversteer caps below still act
             st[S_REAR_CAP] = -1.0
             if (p.blowout_compensation_rear_accel_circle_flag > 0.5
-                    and abs(r_ref) > p.blowout_compensation_yaw_deadband_radps):
-                # (rear_accel_circle_flag, 0 = seeded defect = no cap) in a curve the rears carry the rear axle's
-                # lateral force: cap them at their friction circle (Kamm) at the friction the car's measured
-                # acceleration proves, mu >= |a|/g = sqrt(a_x^2 + a_y^2)/g (sum over the wheels |F_i| >= m*|a|,
-                # sum mu*F_z = mu*m*g), which rises with the stop - not at the front wheel's lower bound alone
+                    and toward_blown_side(b, r_ref) > p.blowout_compensation_yaw_deadband_radps):
+                # (rear_accel_circle_flag, 0 = seeded defect = no cap) a curve toward the blown side (the blown front
+                # is the INNER one): the flat's diagonal load transfer unloads the OUTER rear, which carries the larger
+                # share of the rear lateral force, and under the select-low pair it is the wheel ABS runs at its lock
+                # slip (findings_F.md I2: RR 10-18 % slip, 0.1-0.17 kN lateral vs 0.36-0.6 kN capped). Cap the pair at
+                # the rears' friction circle (Kamm) at the friction the car's measured acceleration proves,
+                # mu >= |a|/g = sqrt(a_x^2 + a_y^2)/g (|sum F_i| = m*|a| <= sum mu*F_z,i = mu*m*g), which rises with
+                # the stop - not at the front wheel's lower bound alone. With the blown front OUTSIDE the turn the
+                # select-low wheel is the inner rear and the loaded outer rear keeps its lateral reserve under ABS: a
+                # cap there cost speed and no lateral force (I2: 20 of 22 worse points were such FR points)
                 mu_acc = max(mu, math.sqrt(a_x * a_x + a_y_meas * a_y_meas) / 9.81)
                 c_rl = wheel_circle_limit_mu(2, gl[2], a_y_ref, mu_acc, b, p)
                 c_rr = wheel_circle_limit_mu(3, gl[3], a_y_ref, mu_acc, b, p)
