@@ -169,3 +169,33 @@ def test_bb29_3_braking_worse_than_not_braking_with_the_defect(env):
     """Negative control: rear_accel_circle_flag = 0 - 1.821 m (none 2.405) vs 1.24 m without the pedal."""
     on = _run(env, BB29_3, [FLAG0]).metrics[METRIC]
     assert on > 1.05 * _run(env, dict(BB29_3, braking="none")).metrics[METRIC]
+
+
+# --- status h item 6, second half: front_circle_measured_flag is not reachable in the shipped configuration -----------
+CIRCLE0 = "vehicle.blowout_compensation.front_circle_measured_flag=0"
+ABSLIM0 = "vehicle.blowout_compensation.front_abs_limit_flag=0"
+
+
+def _front_target(p, a_y=2.0):
+    """The compensating front's braking-rule target S_P_BRAKE [Pa]: FL blown, FR compensating in HOLD with a measured
+    friction 0.3, the driver at 100 bar, a left curve (lateral share on FR), no yaw error."""
+    from vehicle_assist.functions import blowout_compensation as bc
+
+    st = bc.initial_state()
+    st[bc.S_BLOWN], st[bc.S_TARGET], st[bc.S_MODE] = FL, FR, bc.HOLD
+    st[bc.S_P_REQ] = 5.0e5
+    st[bc.S_MU_MEAS] = 0.3
+    bc.braking_rule(st, FL, FR, bc.HOLD, 1.0, -3.0, a_y, 0.0, 100.0e5, np.array((0.0, 5.0e5, 0.0, 0.0)), p, R_TOWARD,
+                    a_y)
+    return st[bc.S_P_BRAKE]
+
+
+def test_front_circle_measured_flag_is_dead_with_front_abs_limit(params):
+    """front_circle_measured_flag acts only in braking_rule (the driver braking) with a measured friction, and under
+    exactly that condition front_abs_limit_flag (H1, shipped 1) lifts the front cap to ABS: the flag changes nothing
+    in the shipped configuration (its toml text and the negative control in tests/verification/
+    test_blowout_front_braking.py say so). It is reachable only with front_abs_limit_flag = 0 - there it still changes
+    the cap (second assertion). This test fails if the flag becomes live again under the pedal (then its negative
+    control tests shipped code once more and this note must go)."""
+    assert _front_target(params) == _front_target(_params(CIRCLE0))
+    assert _front_target(_params(ABSLIM0)) != _front_target(_params(ABSLIM0, CIRCLE0))
