@@ -1638,7 +1638,9 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
       and mu 0.32-0.43 the curve's lateral force alone used it and 0-3 bar of the driver's 39 bar stayed on the intact
       rear axle, the car hardly slowed and drifted out of the curve, falsifier random seed 43 #24): with the front axle
       one wheel short the driver's uncapped rear pressure took the rear tires to 5-10 % slip on a wet curve and the car
-      spun toward the blown side (random seed 7 #15).
+      spun toward the blown side (random seed 7 #15). While ABS acts on the compensating front the pair is left to ABS
+      (``rear_abs_limit_flag``), except in a curve toward the blown side (``rear_accel_circle_flag``): there the circle
+      is taken at the friction the measured acceleration proves, max(mu_meas, sqrt(a_x^2 + a_y^2)/g).
 
     Friction: the lowest the tire-capacity rule measured on the compensating wheel before the pedal (S_MU_MEAS), else
     the ECU's nominal mu_estimate_frac; the rear cap acts only on a measured friction (without evidence of a slippery
