@@ -81,7 +81,11 @@ def test_knife_edge_point_no_worse(p16):
 def test_knife_edge_point_worse_with_the_lateral_demand_counted_twice(env, p16):
     """Negative control: front_circle_measured_flag = 0 (the circle sqrt((mu_meas*F_z)^2 - F_y^2)) - 0.312 m vs none
     0.225 m at the commit of the flag. Session h (H1): front_abs_limit_flag lifts that cap under the pedal altogether,
-    so the control isolates the circle with it at 0 (with it on: 0.185 m, the circle not reached)."""
+    so the control isolates the circle with it at 0 (with it on: 0.185 m, the circle not reached). NOT SHIPPED CODE
+    (session i, I2): with front_abs_limit_flag = 1 front_circle_measured_flag is unreachable (it acts only under the
+    pedal with a measured friction, exactly where front_abs_limit lifts the cap); this control tests the
+    front_abs_limit_flag = 0 configuration only - tests/functions/test_blowout_rear_circle_cap.py
+    test_front_circle_measured_flag_is_dead_with_front_abs_limit checks that the flag is dead as shipped."""
     assert _dev(env, P16, sets=["vehicle.blowout_compensation.front_circle_measured_flag=0",
                                 "vehicle.blowout_compensation.front_abs_limit_flag=0"]) > p16["off"]
 

@@ -1521,6 +1521,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         # pressure and ABS, as without the function). A false alarm's build was the unbalanced moment that kicked the
         # yaw before the rejection (findings_F.md H2); confirmed, the build starts (as from HOLD: to S_P_REQ / S_P_BRAKE)
         requests[tg] = Q_NONE
+        braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref, a_y_meas)
     return n_events
 
 
@@ -1696,7 +1697,7 @@ def understeer_restore(st, p, dt):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref=0.0):
+def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref=0.0, a_y_meas=0.0):
     """One rule for a FRONT blowout while the driver brakes (``braking_rule_flag``, 0 = seeded defect = the rules
     before; issue #10, falsifier random seed 7 #15/#16). Yaw-moment balance of the four brake forces with the blown
     front wheel unbraked (it only drags, D = mu_blow*F'_z, eqs. 22-25): M_z = b_f*(D - F_opp) + b_r*(F_rl - F_rr)
@@ -1726,7 +1727,9 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
       and mu 0.32-0.43 the curve's lateral force alone used it and 0-3 bar of the driver's 39 bar stayed on the intact
       rear axle, the car hardly slowed and drifted out of the curve, falsifier random seed 43 #24): with the front axle
       one wheel short the driver's uncapped rear pressure took the rear tires to 5-10 % slip on a wet curve and the car
-      spun toward the blown side (random seed 7 #15).
+      spun toward the blown side (random seed 7 #15). While ABS acts on the compensating front the pair is left to ABS
+      (``rear_abs_limit_flag``), except in a curve toward the blown side (``rear_accel_circle_flag``): there the circle
+      is taken at the friction the measured acceleration proves, max(mu_meas, sqrt(a_x^2 + a_y^2)/g).
 
     Friction: the lowest the tire-capacity rule measured on the compensating wheel before the pedal (S_MU_MEAS), else
     the ECU's nominal mu_estimate_frac; the rear cap acts only on a measured friction (without evidence of a slippery
@@ -1795,6 +1798,21 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
             # front panic stop: 8 bar, 0.18 kN each vs the twin's 33 bar, 0.84 kN). ABS is the rears' limiter (select-
             # low pair: no moment), the oversteer caps below still act
             st[S_REAR_CAP] = -1.0
+            if (p.blowout_compensation_rear_accel_circle_flag > 0.5
+                    and toward_blown_side(b, r_ref) > p.blowout_compensation_yaw_deadband_radps):
+                # (rear_accel_circle_flag, 0 = seeded defect = no cap) a curve toward the blown side (the blown front
+                # is the INNER one): the flat's diagonal load transfer unloads the OUTER rear, which carries the larger
+                # share of the rear lateral force, and under the select-low pair it is the wheel ABS runs at its lock
+                # slip (findings_F.md I2: RR 10-18 % slip, 0.1-0.17 kN lateral vs 0.36-0.6 kN capped). Cap the pair at
+                # the rears' friction circle (Kamm) at the friction the car's measured acceleration proves,
+                # mu >= |a|/g = sqrt(a_x^2 + a_y^2)/g (|sum F_i| = m*|a| <= sum mu*F_z,i = mu*m*g), which rises with
+                # the stop - not at the front wheel's lower bound alone. With the blown front OUTSIDE the turn the
+                # select-low wheel is the inner rear and the loaded outer rear keeps its lateral reserve under ABS: a
+                # cap there cost speed and no lateral force (I2: 20 of 22 worse points were such FR points)
+                mu_acc = max(mu, math.sqrt(a_x * a_x + a_y_meas * a_y_meas) / 9.81)
+                c_rl = wheel_circle_limit_mu(2, gl[2], a_y_ref, mu_acc, b, p)
+                c_rr = wheel_circle_limit_mu(3, gl[3], a_y_ref, mu_acc, b, p)
+                st[S_REAR_CAP] = min(c_rl, c_rr) * r_w / p.brakes_rear_gain_nm_per_pa
     if p.blowout_compensation_rear_oversteer_flag > 0.5:
         rear_oversteer_cap(st, b, yaw_rate, p_est, p, r_ref, mode)
 

@@ -307,6 +307,11 @@ class SedanBlowoutCompensation(Strict):
     # braking rule: rear pair not capped at the measured friction (a front wheel's lower bound) while ABS is active on
     # the compensating front - ABS limits the rears, the oversteer caps still apply; 0 = seeded defect (capped)
     rear_abs_limit_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # rear_abs_limit_flag in a curve toward the blown side (steered reference yaw toward it beyond the dead band: the
+    # blown front inside, the unloaded outer rear at ABS slip under select-low): the rear pair capped at its friction
+    # circle (Kamm) at the friction the measured acceleration proves, max(mu_meas, sqrt(a_x^2 + a_y^2)/g), next to its
+    # lateral share; 0 = seeded defect (no cap, H1's rule)
+    rear_accel_circle_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # braking rule, turn toward the blown side (its inner front held), yaw away from it: the compensating front's
     # floor (the drag balance) never above braking_lock_floor_frac x its pressure at ABS's last dump start (the lock
     # level; re-apply to a fraction of the lock pressure, EP 0 380 882); forgotten once ABS is quiet on the wheel;
