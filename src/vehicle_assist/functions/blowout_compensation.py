@@ -1511,7 +1511,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         if p.blowout_compensation_understeer_flag > 0.5:
             understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, requests, p, dt, v_ref)
     if p.blowout_compensation_braking_rule_flag > 0.5:
-        braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref)
+        braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref, a_y_meas)
     if (p.blowout_compensation_single_source_build_flag > 0.5 and tg >= 0 and st[S_HEALTHY_S] > -0.5
             and (mode == BUILD or mode == HOLD or mode == LIMITED)):
         # (single_source_build_flag, 0 = seeded defect = the build at once) a TPMS-path detection (TPMS alone, driver
@@ -1521,7 +1521,6 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         # pressure and ABS, as without the function). A false alarm's build was the unbalanced moment that kicked the
         # yaw before the rejection (findings_F.md H2); confirmed, the build starts (as from HOLD: to S_P_REQ / S_P_BRAKE)
         requests[tg] = Q_NONE
-        braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref, a_y_meas)
     return n_events
 
 
