@@ -1517,6 +1517,19 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         # pressure and ABS, as without the function). A false alarm's build was the unbalanced moment that kicked the
         # yaw before the rejection (findings_F.md H2); confirmed, the build starts (as from HOLD: to S_P_REQ / S_P_BRAKE)
         requests[tg] = Q_NONE
+    if (p.blowout_compensation_tpms_symmetric_release_flag > 0.5 and b >= 0 and st[S_HEALTHY_S] > -0.5
+            and (mode == BUILD or mode == HOLD or mode == LIMITED)):
+        # (tpms_symmetric_release_flag, 0 = seeded defect = the named wheel alone released and the build at once) the
+        # TPMS-path confirmation release made yaw-neutral: while the released wheel's verdict is pending
+        # (released_wheel_healthy: a flat wheel freed of the brake over-speeds, a healthy one rolls at the car's
+        # speed) the other wheel of the same axle is released with it - a select-low on that axle - and no compensating
+        # wheel is built: the brake-force DIFFERENCE on one axle is what yaws the car (b*K_b*dp/R), not the release.
+        # A false alarm is then rejected by the verdict with no heading error made (fixed steering never corrects it);
+        # a confirmed flat gets the paper's build (eqs. 26-30) from the confirmation on, as from HOLD
+        o = OPPOSITE[b]
+        if tg >= 0 and tg != o:
+            requests[tg] = Q_NONE
+        requests[o] = Q_RELEASE if requests[b] == Q_RELEASE else Q_NONE
     return n_events
 
 
