@@ -13,7 +13,10 @@ References (independent of the code's formulas): the same car without the functi
 road and false alarm: a symmetric braking car on a straight road keeps its heading, 0.000 m), the requirement's own
 comparison (data/requirements/tire_blowout.toml no_lane_departure_caused / no_worse_than_no_compensation, rollback floor
 0), and the panic-stop floor 0.5 * mu_peak * g (tests/support.panic_stop_decel_bound; UN R13-H Annex 6 asks 0.75).
-The seeded defect: tpms_symmetric_release_flag = 0 (the code before)."""
+Candidate tpms_symmetric_release_flag (SHIPPED 0, NOT enabled - findings_F.md I8: it costs the real braking blowouts the
+counter-brake for the confirmation time, bb47 #52 0.283 -> 2.084 m): the checks below run it explicitly (flag 1) and
+fail with the code before = the shipped code (flag 0, the seeded defect); the shipped code's violation of the requirement
+at #25 stays visible as a strict xfail."""
 from __future__ import annotations
 
 import numpy as np
@@ -25,6 +28,7 @@ from tests.support import mean_decel as _decel
 from tests.support import panic_stop_decel_bound as _bound
 
 B = "vehicle.blowout_compensation."
+CAND = (B + "tpms_symmetric_release_flag=1",)
 DEFECT = (B + "tpms_symmetric_release_flag=0",)
 DEV = "blowout_lateral_deviation_run_max_m"
 EXC = "blowout_lane_exceedance_m"
@@ -37,7 +41,7 @@ FA25 = {"speed": 96.00629966134198, "mu": 0.564059797326502, "brake.start_s": 1.
 @pytest.fixture(scope="module")
 def runs():
     env = load_envelope("tire_blowout_false_alarm")
-    return {"on": _run(env, FA25), "defect": _run(env, FA25, sets=DEFECT), "none": _run(env, FA25, baseline=True)}
+    return {"on": _run(env, FA25, sets=CAND), "defect": _run(env, FA25, sets=DEFECT), "none": _run(env, FA25, baseline=True)}
 
 
 def _events(res, to_mode):
@@ -45,7 +49,7 @@ def _events(res, to_mode):
 
 
 def test_point_is_a_false_tpms_detection_rejected(runs):
-    """The point exercises the rule: a TPMS-path detection of the healthy FR under the driver's brake, then rejected
+    """The point exercises the rule (candidate on, and the code before): a TPMS-path detection of the healthy FR under the driver's brake, then rejected
     (a false alarm) - with and without the rule; the twin has no detection."""
     for k in ("on", "defect"):
         assert _events(runs[k], "BUILD") and _events(runs[k], "REJECTED"), k
@@ -95,3 +99,13 @@ def test_confirmation_release_keeps_the_panic_stop_floor(runs):
     t0 = _events(runs["on"], "BUILD")[0].time_s
     d_on, d_none = _decel(runs["on"], t0, t0 + 1.0), _decel(runs["none"], t0, t0 + 1.0)
     assert d_on >= _bound(FA25), (d_on, d_none, _bound(FA25))
+
+
+@pytest.mark.xfail(strict=True, reason="shipped code (tpms_symmetric_release_flag 0): fa_caused #25 0.991 m, 0.013 m "
+                   "beyond the lane vs 0.000 without the function - the candidate that fixes it is not enabled "
+                   "(findings_F.md I8, session i)")
+def test_shipped_code_causes_no_lane_departure():
+    """no_lane_departure_caused with the code as shipped (open: see the module docstring)."""
+    env = load_envelope("tire_blowout_false_alarm")
+    on, none = _run(env, FA25).metrics[EXC], _run(env, FA25, baseline=True).metrics[EXC]
+    assert max(0.0, none) - on >= 0.0, (on, none)

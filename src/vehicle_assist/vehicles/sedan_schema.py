@@ -331,9 +331,10 @@ class SedanBlowoutCompensation(Strict):
     # confirms it (second source); only the release acts before. SHIPPED 0 (the code before): a candidate measured worse
     single_source_build_flag: Annotated[int, Field(ge=0, le=1)] = 0
     # a TPMS-path detection's confirmation release made yaw-neutral: while the released wheel's verdict is pending the
-    # other wheel of the same axle is released with it (select-low on that axle) and the compensation build waits for
-    # the confirmation; 0 = seeded defect (the code before: the named wheel alone released, the build at once)
-    tpms_symmetric_release_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # other wheel of the same axle is released with it (select-low on that axle), re-applied with it after a rejection,
+    # and the compensation build waits for the confirmation. SHIPPED 0 (the code before): a candidate that fixes the
+    # false alarms but costs the real blowouts the counter-brake for the confirmation time (findings_F.md I8, session i)
+    tpms_symmetric_release_flag: Annotated[int, Field(ge=0, le=1)] = 0
 
     @model_validator(mode="after")
     def _order(self):
