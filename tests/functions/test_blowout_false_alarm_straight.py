@@ -41,7 +41,8 @@ FA25 = {"speed": 96.00629966134198, "mu": 0.564059797326502, "brake.start_s": 1.
 @pytest.fixture(scope="module")
 def runs():
     env = load_envelope("tire_blowout_false_alarm")
-    return {"on": _run(env, FA25, sets=CAND), "defect": _run(env, FA25, sets=DEFECT), "none": _run(env, FA25, baseline=True)}
+    return {"on": _run(env, FA25, sets=CAND), "defect": _run(env, FA25, sets=DEFECT),
+            "none": _run(env, FA25, baseline=True)}
 
 
 def _events(res, to_mode):
@@ -49,8 +50,8 @@ def _events(res, to_mode):
 
 
 def test_point_is_a_false_tpms_detection_rejected(runs):
-    """The point exercises the rule (candidate on, and the code before): a TPMS-path detection of the healthy FR under the driver's brake, then rejected
-    (a false alarm) - with and without the rule; the twin has no detection."""
+    """The point exercises the rule: a TPMS-path detection of the healthy FR under the driver's brake, then rejected (a
+    false alarm) - with the candidate and with the code before; the twin has no detection."""
     for k in ("on", "defect"):
         assert _events(runs[k], "BUILD") and _events(runs[k], "REJECTED"), k
     assert not [x for x in runs["none"].events if x.machine == "blowout_compensation"]
