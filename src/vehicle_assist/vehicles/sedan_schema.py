@@ -346,6 +346,11 @@ class SedanBlowoutCompensation(Strict):
     # inside the band (relay with the dead band as its hysteresis); 0 = the code before (switched at the reference).
     # Shipped 0: candidate (findings_F.md I3: new violations elsewhere)
     blown_front_hold_band_flag: Annotated[int, Field(ge=0, le=1)] = 0
+    # a TPMS-path detection's confirmation release made yaw-neutral: while the released wheel's verdict is pending the
+    # other wheel of the same axle is released with it (select-low on that axle), re-applied with it after a rejection,
+    # and the compensation build waits for the confirmation. SHIPPED 0 (the code before): a candidate that fixes the
+    # false alarms but costs the real blowouts the counter-brake for the confirmation time (findings_F.md I8, session i)
+    tpms_symmetric_release_flag: Annotated[int, Field(ge=0, le=1)] = 0
 
     @model_validator(mode="after")
     def _order(self):
