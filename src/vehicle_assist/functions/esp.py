@@ -261,6 +261,13 @@ def _estimate(mode, p_est, p_src, dt, p, open_before_s=0.0):
     """The ECU's model of a wheel pressure (nominal unit data, spec 2 simplified model). ``open_before_s``: how
     long the inlet has already been open for a build (B/BP) before this period (accumulator dead time t0)."""
     if mode == W_N:
+        if p.esp_pressure_estimate_line_flag > 0.5:
+            # (pressure_estimate_line_flag) inlet open, circuit open to the master cylinder: the wheel follows the
+            # source through the line, the unit's first-order lag tau_line (the same nominal model as the W_B USV
+            # check-valve inflow and the H/BPM return flow below; plant/brakes/esp_unit.py row N), integrated exactly
+            # over the period with p_src held: p_src + (p_est - p_src)*exp(-dt/tau_line). 0 = the code before (the
+            # estimate took the source at once: a dump one period after W_N stored 167.8 bar, the wheel held 53.6)
+            return p_src + (p_est - p_src) * math.exp(-dt / p.esp_unit_line_time_constant_s)
         return p_src
     if mode == W_B or mode == W_BP:
         rate = p.esp_unit_pump_build_rate_pa_per_s * (1.0 if mode == W_B else p.esp_unit_pulse_duty_frac)
