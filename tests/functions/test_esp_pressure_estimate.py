@@ -238,3 +238,42 @@ def test_dump_start_code_before(panic_rows):
 def test_shipped_dump_start_reads_the_wheel(panic_rows):
     """The shipped vehicle file (whatever its flag says), same criterion as the rule's test."""
     assert not _bad_dump_starts(panic_rows["shipped"])
+
+
+def _stored_dump_level_pa(flag):
+    """The ESP controller alone (tests/support.esp_ecu; HBA off so the pedal step is not an assist): the driver held at
+    20 bar, then 167.8 bar (I1's panic source) for one ESP period with the wheels in N; FR is the blowout compensation's
+    wheel (FL blown, BUILD) and its speed drops to 70 % of the car's - ABS dumps it; returns the stored lock level
+    S_P_PREDUMP (the pressure at the dump's start)."""
+    from tests.support import esp_ecu, esp_ecu_step
+    from vehicle_assist.functions import blowout_compensation as bc
+
+    sets = ["vehicle.brake_assist.enabled_flag=0"] + ([] if flag is None else [f"{FLAG}={flag}"])
+    p = _n_params("blowout_panic_stop_80kph", *sets)
+    e = esp_ecu(p, 20.0, 20.0 * BAR, 20)
+    e["meas"].master_pressure_pa = 167.8 * BAR
+    esp_ecu_step(e, p)
+    assert int(e["wheels"][1, esp.A_WHEEL_MODE]) == esp.W_N  # test premise: the wheel is on the driver's pressure
+    e["bst"][bc.S_MODE], e["bst"][bc.S_TARGET], e["bst"][bc.S_BLOWN] = bc.BUILD, 1.0, 0.0
+    e["meas"].wheel_speed_fr_radps = 14.0 / p.body_wheel_radius_m
+    esp_ecu_step(e, p)
+    assert int(e["wheels"][1, esp.A_MODE]) == 2, "test premise: ABS dumps FR"  # abs.py DUMP
+    return float(e["bst"][bc.S_P_PREDUMP]), p
+
+
+@pytest.mark.parametrize("flag", [pytest.param(None, marks=pytest.mark.xfail(
+    strict=True, reason="known limit: esp.pressure_estimate_line_flag shipped 0 (findings_F.md I9)")), 1, 2])
+def test_dump_start_stores_the_wheel_pressure(flag):
+    """The lock level stored at the dump's start is the wheel cylinder's pressure one ESP period after the source step
+    (plant row N from 20 bar: 61.9 bar), within ERROR_BOUND_PA - with flag 2 (only this stored level reads the line
+    estimate A_P_LINE) and flag 1 (the whole estimate). Flag 0 (shipped) stores the source, 167.8 bar: the shipped
+    case (None) is a strict xfail until a candidate is enabled (findings_F.md I9)."""
+    stored, p = _stored_dump_level_pa(flag)
+    wheel = plant_fill(p, 20.0 * BAR, 167.8 * BAR, 1)[-1]
+    assert abs(stored - wheel) <= ERROR_BOUND_PA, f"stored {stored / BAR:.1f} vs wheel {wheel / BAR:.1f} bar"
+
+
+def test_dump_start_stores_the_source_code_before():
+    """Negative control: the seeded defect (flag 0) stores the 167.8-bar source as the lock level."""
+    stored, p = _stored_dump_level_pa(0)
+    assert stored > plant_fill(p, 20.0 * BAR, 167.8 * BAR, 1)[-1] + 100.0 * BAR
