@@ -35,7 +35,9 @@ Per period:
 4. HBA (functions/brake_assist.py), if enabled, available only while ABS and the pump are healthy.
 5. Arbitration: wheel valve mode = ``ARBITRATION[hba mode][wheel request]`` (data below).
 6. The ECU's wheel-pressure estimate (its model of the unit, nominal data) tells TERMINATING when the
-   wheels are back at the driver's pressure.
+   wheels are back at the driver's pressure. In mode N it takes the source at once (shipped); candidates
+   (``pressure_estimate_line_flag``, shipped 0): 1 = mode N through the line lag tau_line, 2 = that line estimate
+   kept alongside (A_P_LINE) for the lock level stored at an ABS dump's start only (findings_F.md I9).
 """
 from __future__ import annotations
 
@@ -120,8 +122,10 @@ CTL_SIZE = 20
 # while braking latched the GMA on the healthy wheel it had released, 3-10 bar for ~1 s, 1.12 m off the lane)
 # per-wheel state (rows fl, fr, rl, rr)
 A_MODE, A_BUILD_S, A_VW_PREV, A_SINCE_HD_S, A_LOGGED, A_SLIP, A_DECEL, A_REQUEST, A_WHEEL_MODE, A_P_EST, \
-    A_INLET_OPEN_S, A_ABS_QUIET_S, A_VALVE_QUIET_S, A_HOLD_S, A_HOLD_SUM, A_HOLD_PREV = range(16)
-WHEEL_STATE_SIZE = 16
+    A_INLET_OPEN_S, A_ABS_QUIET_S, A_VALVE_QUIET_S, A_HOLD_S, A_HOLD_SUM, A_HOLD_PREV, A_P_LINE = range(17)
+WHEEL_STATE_SIZE = 17
+# A_P_LINE: the same estimate with mode N through the line lag (pressure_estimate_line_flag = 2: kept alongside A_P_EST
+# and read only where a dump's start is stored as the lock level, S_P_PREDUMP)
 # A_HOLD_S / A_HOLD_SUM: time and slip integral of the present window of an ABS hold above the hold slip; A_HOLD_PREV:
 # the previous window's mean slip (-1: none yet) - esp.abs_hold_limit_flag, abs_hold_limit
 # A_ABS_QUIET_S: time since the wheel's ABS mode was last other than OFF (hold, dump or build); A_VALVE_QUIET_S: time
@@ -259,10 +263,18 @@ def plausible_reference(ctl, vw, braking, p, dt, a_x=0.0, abs_quiet_s=None, valv
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def _estimate(mode, p_est, p_src, dt, p, open_before_s=0.0):
+def _estimate(mode, p_est, p_src, dt, p, open_before_s=0.0, line=False):
     """The ECU's model of a wheel pressure (nominal unit data, spec 2 simplified model). ``open_before_s``: how
-    long the inlet has already been open for a build (B/BP) before this period (accumulator dead time t0)."""
+    long the inlet has already been open for a build (B/BP) before this period (accumulator dead time t0); ``line``:
+    mode N through the line lag whatever the flag says (the A_P_LINE estimate)."""
     if mode == W_N:
+        if line or (p.esp_pressure_estimate_line_flag > 0.5 and p.esp_pressure_estimate_line_flag < 1.5):
+            # (pressure_estimate_line_flag) inlet open, circuit open to the master cylinder: the wheel follows the
+            # source through the line, the unit's first-order lag tau_line (the same nominal model as the W_B USV
+            # check-valve inflow and the H/BPM return flow below; plant/brakes/esp_unit.py row N), integrated exactly
+            # over the period with p_src held: p_src + (p_est - p_src)*exp(-dt/tau_line). 0 = the code before (the
+            # estimate took the source at once: a dump one period after W_N stored 167.8 bar, the wheel held 53.6)
+            return p_src + (p_est - p_src) * math.exp(-dt / p.esp_unit_line_time_constant_s)
         return p_src
     if mode == W_B or mode == W_BP:
         rate = p.esp_unit_pump_build_rate_pa_per_s * (1.0 if mode == W_B else p.esp_unit_pulse_duty_frac)
@@ -473,10 +485,11 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                 and (slip > p.esp_abs_hold_slip_frac or p.blowout_compensation_predump_slip_flag < 0.5)):
             # braking rule: the re-build after this dump goes back to here - only a dump with slip evidence marks the
             # lock level (predump_slip_flag: a noise-triggered deceleration dump at 2.8 % slip latched 31 of 64 bar)
-            bst[bc.S_P_PREDUMP] = wheels[i, A_P_EST]
+            p_dump = wheels[i, A_P_LINE] if p.esp_pressure_estimate_line_flag > 1.5 else wheels[i, A_P_EST]
+            bst[bc.S_P_PREDUMP] = p_dump
             bst[bc.S_AW_PREDUMP] = a_w  # the wheel's deceleration at that pressure (abs_dump_bound_flag)
             # ... and over the window before it, noise-robust (abs_dump_noise_flag; pressures of this period not pushed yet)
-            bst[bc.S_P_DUMPWIN], bst[bc.S_AW_DUMPWIN] = bc.dump_window_reading(bst, i, wheels[i, A_P_EST], dt)
+            bst[bc.S_P_DUMPWIN], bst[bc.S_AW_DUMPWIN] = bc.dump_window_reading(bst, i, p_dump, dt)
         elif (new == abs_fn.OFF and mode != abs_fn.OFF and i == comp_wheel
               and p.blowout_compensation_braking_rule_flag > 0.5):
             # ABS let the wheel go (build_idle: no hold/dump for abs_idle_time_s), so the dump's pressure is no lock
@@ -846,6 +859,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         # own ABS mode: a rear released by the select-low, or the GMA's wheel, recovers from below (braking_outlier)
         quiet_v = (wm == W_N or wm == W_B or not abs_ok) and int(wheels[i, A_MODE]) == abs_fn.OFF
         wheels[i, A_VALVE_QUIET_S] = wheels[i, A_VALVE_QUIET_S] + dt if quiet_v else 0.0
+        wheels[i, A_P_LINE] = _estimate(wm, wheels[i, A_P_LINE], src_i, dt, p, wheels[i, A_INLET_OPEN_S], True)
         wheels[i, A_P_EST] = _estimate(wm, wheels[i, A_P_EST], src_i, dt, p, wheels[i, A_INLET_OPEN_S])
         if i >= 2 and bst[bc.S_PAIR_LOW] > 0.5 and int(bst[bc.S_REAPPLY]) == i and wm == W_N:
             # (reject_pair_low_flag) the re-applied rear's estimate is the re-apply's line model, not the source W_N's

@@ -146,6 +146,11 @@ class SedanEsp(Strict):
     # candidate NOT enabled (6 blowout checks go red with it, findings_F.md I5); 0 = the code before (shipped)
     abs_hold_limit_flag: Annotated[int, Field(ge=0, le=1)] = 0
     abs_hold_window_s: Annotated[float, Field(gt=0, le=1)] = 0.1
+    # 1 = the ECU's wheel-pressure estimate in mode N follows the source through the line lag tau_line (the unit's
+    # own model, as its W_B/H/BPM branches) instead of taking the source at once (moves never-worse points, lengthens
+    # HBA stops); 2 = that line estimate kept alongside (A_P_LINE) and read only for the lock level stored at an ABS
+    # dump's start (S_P_PREDUMP); both candidates NOT enabled (findings_F.md I9); 0 = the code before (shipped)
+    pressure_estimate_line_flag: Annotated[int, Field(ge=0, le=2)] = 0
     abs_hold_slip_rise_frac: Annotated[float, Field(ge=0, lt=1)] = 0.005
     reference_decel_margin_mps2: Annotated[float, Field(ge=0, le=10)]
     # wheel-signal plausibility of the reference speed (implausibly fast wheel left out); 0 = defect (max of the four)
