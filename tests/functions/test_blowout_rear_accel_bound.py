@@ -113,5 +113,16 @@ def test_bound_still_rises_with_the_stop():
     assert high > low > 0.0
 
 
-if __name__ == "__main__":  # pragma: no cover
-    pytest.main([__file__, "-q"])
+
+def test_fr_blown_in_a_right_curve_is_the_mirror_of_fl_in_a_left_curve():
+    """Gate sign and wheel indices for the RIGHT side: FR blown in a right curve (r_ref < 0, a_y < 0) is the mirror
+    image of FL in a left curve, so the rule acts and the select-low cap of RL/RR is the same force (mirror symmetry
+    of the car: loads, lateral shares and the flat's diagonal transfer swap sides). Independent of the flags."""
+    from tests.functions.test_blowout_rear_circle_cap import rear_cap_n as cap_any
+
+    p = _params()
+    for a_x, a_y in ((-2.0, 1.5), (-3.5, 2.5)):
+        left = cap_any(p, a_x, a_y, R_TOWARD, blown=FL)
+        right = cap_any(p, a_x, -a_y, -R_TOWARD, blown=FR)
+        assert left > 0.0
+        assert right == pytest.approx(left, rel=1e-9)
