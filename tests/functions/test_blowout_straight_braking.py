@@ -169,3 +169,10 @@ def test_106_early_detection_no_worse_than_without_compensation(env):
     on = envelope_point_run(env, P106_EARLY).metrics[METRIC]
     none = envelope_point_run(env, P106_EARLY, baseline=True).metrics[METRIC]
     assert on <= none, (on, none)
+
+
+def test_69_shipped_no_worse_than_without_compensation(env, runs69):
+    """Review RI1 (session i): the rows above run at named_front_gma_flag = 0 since I4; this row keeps #69 checked at
+    the SHIPPED code (I4 measured 0.495 m vs none 11.29 m): a later rule that brings #69 back beyond the twin fails here."""
+    on = envelope_point_run(env, P69).metrics[METRIC]
+    assert on <= runs69["none"].metrics[METRIC], (on, runs69["none"].metrics[METRIC])

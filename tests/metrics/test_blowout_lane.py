@@ -9,7 +9,7 @@ import pytest
 import vehicle_assist.metrics.blowout  # noqa: F401  (registers the blowout metrics)
 from vehicle_assist.core.trace import Trace
 from vehicle_assist.metrics.common import compute_metrics
-from vehicle_assist.verification.requirements import comparative_robustness, load_requirement_file
+from vehicle_assist.verification.requirements import comparative_metrics, comparative_robustness, load_requirement_file
 
 BOUNDARY_M = (3.75 - 1.794) / 2.0  # 0.978 m
 
@@ -35,8 +35,8 @@ def test_caused_departure_holds_inside_the_lane_and_when_the_twin_is_further_out
     assert req.comparative
 
     def rob(function_peak_m, twin_peak_m):
-        f = compute_metrics(lane_trace(function_peak_m), [req.metric])
-        b = compute_metrics(lane_trace(twin_peak_m), [req.metric])
+        f = compute_metrics(lane_trace(function_peak_m), comparative_metrics(req))
+        b = compute_metrics(lane_trace(twin_peak_m), comparative_metrics(req))
         return comparative_robustness(req, f, b)
 
     # both inside the lane: holds, whatever the difference (never-worse is another requirement)
@@ -47,3 +47,21 @@ def test_caused_departure_holds_inside_the_lane_and_when_the_twin_is_further_out
     assert rob(1.0, 0.5) == pytest.approx(-(1.0 - BOUNDARY_M), abs=1e-6)
     # both leave, the function further by 0.1 m: violated by the added 0.1 m
     assert rob(1.6, 1.5) == pytest.approx(-0.1, abs=1e-6)
+
+
+def test_caused_departure_is_judged_per_side():
+    """Review RI1 (session i): the twin leaving over the LEFT marking does not excuse the function leaving over the
+    RIGHT one. The twin drifts to +1.5 m (0.522 m beyond the left marking), the function to -1.2 m (0.222 m beyond the
+    right marking, where the twin never went): violated by 0.222 m. With one sideless max |offset| (the requirement
+    before) this read +0.3 m, a pass. Mirror too; same side keeps the margin (0.3 m)."""
+    req = load_requirement_file("tire_blowout")["tire_blowout.no_lane_departure_caused"]
+
+    def rob(function_peak_m, function_sign, twin_peak_m, twin_sign):
+        names = ["blowout_lane_exceedance_m", "blowout_lane_exceedance_left_m", "blowout_lane_exceedance_right_m"]
+        f = compute_metrics(lane_trace(function_peak_m, function_sign), names)
+        b = compute_metrics(lane_trace(twin_peak_m, twin_sign), names)
+        return comparative_robustness(req, f, b)
+
+    assert rob(1.2, -1.0, 1.5, +1.0) == pytest.approx(-(1.2 - BOUNDARY_M), abs=1e-6)
+    assert rob(1.2, +1.0, 1.5, -1.0) == pytest.approx(-(1.2 - BOUNDARY_M), abs=1e-6)
+    assert rob(1.2, -1.0, 1.5, -1.0) == pytest.approx(0.3, abs=1e-6)

@@ -84,6 +84,19 @@ def _lane_exceedance(t, e):
     return float(max(0.0, np.max(np.abs(e)) - LANE_MARGIN_M)) if e.size else 0.0
 
 
+def _lane_exceedance_left(t, e):
+    """How far the car gets beyond its LEFT lane marking over the whole run [m] (lane_offset_m: left +):
+    max(0, max(lane offset) - LANE_MARGIN_M). With ``_lane_exceedance_right`` the per-side reading of
+    ``_lane_exceedance``: a departure on one side is not offset by the twin's on the other (review RI1, session i)."""
+    return float(max(0.0, np.max(e) - LANE_MARGIN_M)) if e.size else 0.0
+
+
+def _lane_exceedance_right(t, e):
+    """How far the car gets beyond its RIGHT lane marking over the whole run [m]: max(0, -min(lane offset) -
+    LANE_MARGIN_M)."""
+    return float(max(0.0, -np.min(e) - LANE_MARGIN_M)) if e.size else 0.0
+
+
 def _decel(t, phi, mode, a):
     tb = blowout_time_s(t, phi, mode)
     w = _window(t, tb, tb + YAW_WINDOW_S)
@@ -184,6 +197,10 @@ _DEFS = [
      "1 if the offset exceeds (3.75 m lane - 1.794 m car)/2 within 3 s"),
     ("blowout_lane_exceedance_m", _lane_exceedance, ("lane_offset_m",),
      "max(0, max |lane offset| - (3.75 m lane - 1.794 m car)/2) over the whole run: how far out of the lane"),
+    ("blowout_lane_exceedance_left_m", _lane_exceedance_left, ("lane_offset_m",),
+     "max(0, max lane offset - (3.75 m lane - 1.794 m car)/2) over the whole run: how far beyond the LEFT marking"),
+    ("blowout_lane_exceedance_right_m", _lane_exceedance_right, ("lane_offset_m",),
+     "max(0, -min lane offset - (3.75 m lane - 1.794 m car)/2) over the whole run: how far beyond the RIGHT marking"),
     ("blowout_decel_mean_mps2", _decel, _BASE + ("accel_mps2",), "mean deceleration in [t_b, t_b + 2 s]"),
     ("blowout_detection_time_s", _detect_time, _BASE + ("blowout_detected_wheel_index",), "detection time after t_b"),
     ("blowout_detected_wheel_index", lambda t, d: float(np.max(d)), ("blowout_detected_wheel_index",),

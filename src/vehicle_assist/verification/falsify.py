@@ -144,8 +144,10 @@ def evaluate_points(env: Envelope, req: Requirement, points: list[dict], workers
     from vehicle_assist.scenarios.runner import simulate_batch
 
     names = _metric_names(env.layout)
-    if req.comparative and req.metric not in names:
-        names = [*names, req.metric]
+    if req.comparative:
+        from vehicle_assist.verification.requirements import comparative_metrics
+
+        names = [*names, *[m for m in comparative_metrics(req) if m not in names]]
     scenarios = [env.scenario(p) for p in points]
     if req.comparative:
         twins = [env.scenario(p, baseline=True) for p in points]

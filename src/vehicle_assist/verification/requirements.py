@@ -381,9 +381,26 @@ def no_worse_robustness(metrics: dict, baseline_metrics: dict, metric: str, floo
     return float(r) if math.isfinite(r) else float("nan")
 
 
+def comparative_metrics(req: Requirement) -> list[str]:
+    """The run metrics a ``no_worse_than_baseline`` requirement compares: ``metric`` is one name or several joined by
+    commas, each compared with the twin's own value of the same metric (e.g. the lane exceedance per side)."""
+    return [m.strip() for m in req.metric.split(",") if m.strip()]
+
+
 def comparative_robustness(req: Requirement, metrics: dict, baseline_metrics: dict) -> float:
-    """Robustness of a ``no_worse_than_baseline`` requirement (``no_worse_robustness`` on its metric and floor)."""
-    return no_worse_robustness(metrics, baseline_metrics, req.metric, req.rollback_floor_m)
+    """Robustness of a ``no_worse_than_baseline`` requirement (``no_worse_robustness`` on its metric and floor; with
+    several metrics the least of them: each must be no worse than the twin's). A metric at or below the floor in BOTH
+    runs (e.g. neither car beyond the right marking) is left out of the least when another is not: its robustness
+    floor - value >= 0 cannot be a violation, and it would hide the margin of the others (0 instead of the twin's
+    larger exceedance on the side where both left)."""
+    names = comparative_metrics(req)
+    robs = [no_worse_robustness(metrics, baseline_metrics, m, req.rollback_floor_m) for m in names]
+    if any(math.isnan(r) for r in robs):
+        return float("nan")
+    floor = req.rollback_floor_m
+    live = [r for m, r in zip(names, robs)
+            if not (float(metrics.get(m, float("nan"))) <= floor and float(baseline_metrics.get(m, float("nan"))) <= floor)]
+    return float(min(live or robs))
 
 
 def evaluate(reqs: list[Requirement], trace, metrics: dict | None = None, baseline_metrics: dict | None = None
@@ -395,7 +412,8 @@ def evaluate(reqs: list[Requirement], trace, metrics: dict | None = None, baseli
             detail = ({"rollback_m": (metrics or {}).get("rollback_distance_m"),
                        "baseline_rollback_m": (baseline_metrics or {}).get("rollback_distance_m")}
                       if r.metric == "rollback_distance_m" else
-                      {r.metric: (metrics or {}).get(r.metric), f"baseline_{r.metric}": (baseline_metrics or {}).get(r.metric)})
+                      {k: v for m in comparative_metrics(r) for k, v in
+                       ((m, (metrics or {}).get(m)), (f"baseline_{m}", (baseline_metrics or {}).get(m)))})
         else:
             value, detail = robustness(r, trace), {}
         out.append(RequirementResult(r.id, value, r.unit, r.formula, r.why, r.expect, detail))
