@@ -15,14 +15,16 @@ are fixed, three stay and one appears (83 #27); by mechanism:
   (yaw 60-75 deg/s; the steered 2.9 deg/s). The compensated car's yaw runs ahead of the twin's from the named window
   on (12.3 vs 9.2 deg/s at the detection, 1.42 s: its ESP reference leaves the named FL out, FR's ABS keeps FR at 8 %
   slip instead of the twin's 14 % - more lateral force on the outer front) and the released flat FL (2 bar vs the
-  twin's 19) brakes it less into the spin: 7.955 vs 5.354 m. I4's rule made it worse (6.264 at flag 0, refused
+  twin's 19) brakes it less into the spin: 7.955 vs 5.354 m. Its outer rear RR sits in one ABS hold at 10-14 % slip
+  from 1.175 s to 1.86 s, across the detection, where the twin's RR reaches 20 % and is dumped at 1.34 s. I4's rule made it worse (6.264 at flag 0, refused
   at 1.655 s instead of 2.29 s). With I5's ABS hold time limit (``esp.abs_hold_limit_flag``, shipped 0) on BOTH cars:
   5.080 vs 4.788 m. Strict xfail.
 * C - 61 #22 (FL 106 km/h, mu 0.49, 650 m curve toward FL, pedal after the detection): G2's blown-inner-front hold
   (``blown_front_hold_flag``) cycles the flat FL between released (~1 bar) and re-applied (15-37 bar) ten times as the
   yaw crosses the steered reference (findings_F.md I3); the car drifts out 2.156 vs 1.727 m. With the hold off the
   paper's release gives 0.555 m (I3's relay, ``blown_front_hold_band_flag`` 1: 1.979). Strict xfail + attribution.
-* D (status h item 8, the ABS hold without a time limit; B shares it) - 61 #45 (FL 51 km/h, mu 0.32, 1000 m curve: steered yaw 0.8 deg/s, inside the 1 deg/s dead band, so treated as a
+* D (status h item 8, the ABS hold without a time limit; B shares it) - 61 #45 (FL 51 km/h, mu 0.32, 1000 m
+  curve: steered yaw 0.8 deg/s, inside the 1 deg/s dead band, so treated as a
   straight road): the paper's release of the braked flat FL while the intact FR sits in one uninterrupted ABS hold at
   15-16 % slip for 3.0 s (status h item 8) - the release's moment, set by the pedal, yaws the car away from the blown
   side 1.3 deg/s below the reference: the mirror image of the twin (-0.494 vs +0.469 m at the end; 0.493 vs 0.470 m).
@@ -189,7 +191,8 @@ def test_22_attributed_to_blown_front_hold(run):
 @pytest.mark.parametrize("name", ["s61_45", "s83_27"])
 def test_compensating_front_abs_hold_longer_than_twin(run, name):
     """D, mechanism: the compensating FR sits in ONE uninterrupted ABS hold (between the 10 % hold and 20 % dump
-    thresholds) longer than 2 s and longer than any of the twin's FR holds (61 #45 3.0 vs 1.4 s, 83 #27 2.5 vs 1.5 s)."""
+    thresholds) longer than 2 s and longer than any of the twin's FR holds (61 #45 3.0 vs 1.4 s, 83 #27 2.5 vs
+    1.5 s)."""
     holds = [_longest_run_s(np.asarray(r.trace["abs_mode_fr_index"]) == ABS_HOLD, np.asarray(r.trace["time_s"]))
              for r in (run(name), run(name, baseline=True))]
     assert holds[0] > 2.0 and holds[0] > holds[1], holds
