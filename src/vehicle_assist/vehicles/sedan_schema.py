@@ -346,6 +346,9 @@ class SedanBlowoutCompensation(Strict):
     # inside the band (relay with the dead band as its hysteresis); 0 = the code before (switched at the reference).
     # Shipped 0: candidate (findings_F.md I3: new violations elsewhere)
     blown_front_hold_band_flag: Annotated[int, Field(ge=0, le=1)] = 0
+    # esp.abs_hold_limit's time limit on the ABS hold applied to the compensating FRONT wheel while the compensation runs
+    # (BUILD/HOLD/LIMITED) even with esp.abs_hold_limit_flag 0; 0 = the code before. Candidate (findings_F.md I10)
+    comp_hold_limit_flag: Annotated[int, Field(ge=0, le=1)] = 0
 
     @model_validator(mode="after")
     def _order(self):
