@@ -360,6 +360,9 @@ class SedanBlowoutCompensation(Strict):
     # and the compensation build waits for the confirmation. SHIPPED 0 (the code before): a candidate that fixes the
     # false alarms but costs the real blowouts the counter-brake for the confirmation time (findings_F.md I8, session i)
     tpms_symmetric_release_flag: Annotated[int, Field(ge=0, le=1)] = 0
+    # esp.abs_hold_limit's time limit on the ABS hold applied to the compensating FRONT wheel while the compensation runs
+    # (BUILD/HOLD/LIMITED) even with esp.abs_hold_limit_flag 0; 0 = the code before. Candidate (findings_F.md I10)
+    comp_hold_limit_flag: Annotated[int, Field(ge=0, le=1)] = 0
 
     @model_validator(mode="after")
     def _order(self):
