@@ -183,14 +183,15 @@ def test_estimate_settles_at_the_source(n_params):
 
 
 def _dump_onset_errors(sets):
-    """Closed loop, I1's panic stop: per ABS dump start of each wheel, (time, ECU-model estimate, plant pressure), the
-    estimate replayed along the run's own valve modes and source pressures (as esp_step chains it)."""
+    """Closed loop, I1's panic stop: per ABS dump start of each wheel, (time, ECU-model estimate the dump stores as its
+    level - A_P_EST, or A_P_LINE with flag 2 -, plant pressure), the estimate replayed along the run's own valve modes and source pressures (as esp_step chains it)."""
     from vehicle_assist.scenarios.runner import pack_records
 
     sc = va.load_scenario("blowout_panic_stop_80kph").with_sets("road.friction_mu=0.45",
                                                                  "vehicle.brakes.gain_scale_frac=0.7", *sets)
     p = pack_records([sc.vehicle.flat()])[0]
     df = va.simulate(sc, requirements=False).to_pandas()
+    line = p.esp_pressure_estimate_line_flag > 1.5  # flag 2: the level stored at a dump's start is A_P_LINE (esp.py)
     rows = []
     for w in ("fl", "fr", "rl", "rr"):
         wm = df[f"wheel_mode_{w}_index"].values.astype(int)
@@ -198,7 +199,7 @@ def _dump_onset_errors(sets):
         pw = df[f"wheel_pressure_{w}_pa"].values
         pe, open_s, cur = np.zeros(len(df)), 0.0, pw[0]
         for k in range(len(df)):
-            cur = esp._estimate(wm[k], cur, src[k], DT, p, open_s)
+            cur = esp._estimate(wm[k], cur, src[k], DT, p, open_s, line)
             open_s = open_s + DT if wm[k] in (esp.W_B, esp.W_BP) else 0.0
             pe[k] = cur  # the estimate at the end of period k: the plant's pressure at row k + 1
         for k in range(1, len(df)):
@@ -232,11 +233,10 @@ def test_dump_start_code_before(panic_rows):
     assert worst > 60.0 * BAR, f"seeded defect only {worst / BAR:.1f} bar over"
 
 
-@pytest.mark.xfail(strict=True, reason="known limit: esp.pressure_estimate_line_flag shipped 0 (a candidate: it moves "
-                   "never-worse points and lengthens HBA stops, findings_F.md I9) - the shipped ECU's estimate still "
-                   "jumps to the source in mode N; remove this mark when the flag is enabled")
 def test_shipped_dump_start_reads_the_wheel(panic_rows):
-    """The shipped vehicle file (whatever its flag says), same criterion as the rule's test."""
+    """The shipped vehicle file (whatever its flag says; SUV: 2 since session i, I11), same criterion as the rule's
+    test, on the pressure the shipped ECU stores at each dump's start (flag 2: the line estimate A_P_LINE, which follows
+    mode N as flag 1's estimate does; fails with the SUV file at 0: FR 167.8 vs 86.4 bar)."""
     assert not _bad_dump_starts(panic_rows["shipped"])
 
 
@@ -261,13 +261,12 @@ def _stored_dump_level_pa(flag):
     return float(e["bst"][bc.S_P_PREDUMP]), p
 
 
-@pytest.mark.parametrize("flag", [pytest.param(None, marks=pytest.mark.xfail(
-    strict=True, reason="known limit: esp.pressure_estimate_line_flag shipped 0 (findings_F.md I9)")), 1, 2])
+@pytest.mark.parametrize("flag", [None, 1, 2])
 def test_dump_start_stores_the_wheel_pressure(flag):
     """The lock level stored at the dump's start is the wheel cylinder's pressure one ESP period after the source step
     (plant row N from 20 bar: 61.9 bar), within ERROR_BOUND_PA - with flag 2 (only this stored level reads the line
-    estimate A_P_LINE) and flag 1 (the whole estimate). Flag 0 (shipped) stores the source, 167.8 bar: the shipped
-    case (None) is a strict xfail until a candidate is enabled (findings_F.md I9)."""
+    estimate A_P_LINE) and flag 1 (the whole estimate). Flag 0 (the code before) stores the source, 167.8 bar; the
+    shipped case (None: the SUV file, 2 since session i, I11) was a strict xfail while the file said 0."""
     stored, p = _stored_dump_level_pa(flag)
     wheel = plant_fill(p, 20.0 * BAR, 167.8 * BAR, 1)[-1]
     assert abs(stored - wheel) <= ERROR_BOUND_PA, f"stored {stored / BAR:.1f} vs wheel {wheel / BAR:.1f} bar"
