@@ -35,9 +35,9 @@ Per period:
 4. HBA (functions/brake_assist.py), if enabled, available only while ABS and the pump are healthy.
 5. Arbitration: wheel valve mode = ``ARBITRATION[hba mode][wheel request]`` (data below).
 6. The ECU's wheel-pressure estimate (its model of the unit, nominal data) tells TERMINATING when the
-   wheels are back at the driver's pressure. In mode N it takes the source at once (shipped); candidates
-   (``pressure_estimate_line_flag``, shipped 0): 1 = mode N through the line lag tau_line, 2 = that line estimate
-   kept alongside (A_P_LINE) for the lock level stored at an ABS dump's start only (findings_F.md I9).
+   wheels are back at the driver's pressure. In mode N it takes the source at once; ``pressure_estimate_line_flag``
+   = 2 (shipped) keeps a line-lag estimate alongside (A_P_LINE) for the lock level stored at an ABS dump's start
+   (findings_F.md I9, I11); 1 = mode N through the line lag tau_line everywhere (candidate, not enabled).
 """
 from __future__ import annotations
 

@@ -149,8 +149,9 @@ class SedanEsp(Strict):
     # 1 = the ECU's wheel-pressure estimate in mode N follows the source through the line lag tau_line (the unit's
     # own model, as its W_B/H/BPM branches) instead of taking the source at once (moves never-worse points, lengthens
     # HBA stops); 2 = that line estimate kept alongside (A_P_LINE) and read only for the lock level stored at an ABS
-    # dump's start (S_P_PREDUMP); both candidates NOT enabled (findings_F.md I9); 0 = the code before (shipped)
-    pressure_estimate_line_flag: Annotated[int, Field(ge=0, le=2)] = 0
+    # dump's start (S_P_PREDUMP) - shipped (I11, session i); 1 is a candidate NOT enabled (findings_F.md I9, I11);
+    # 0 = seeded defect (the code before: the lock level read the source step, 167.8 bar vs 86.4 bar in the wheel)
+    pressure_estimate_line_flag: Annotated[int, Field(ge=0, le=2)] = 2
     abs_hold_slip_rise_frac: Annotated[float, Field(ge=0, lt=1)] = 0.005
     reference_decel_margin_mps2: Annotated[float, Field(ge=0, le=10)]
     # wheel-signal plausibility of the reference speed (implausibly fast wheel left out); 0 = defect (max of the four)
