@@ -38,9 +38,10 @@ def none_m():
 
 
 def test_the_gma_rejected_mask_is_the_cause(none_m):
-    """Diagnostic: without gma_rejected_flag's mask the GMA starts on FL and the car does not spin (2.456 m; shipped
-    14.635 m): the difference is the mask, not the detection or the build."""
-    assert _dev(B + "gma_rejected_flag=0") < 0.5 * _dev()
+    """Diagnostic (code before I12's rule, gma_rejected_split_flag = 0): without gma_rejected_flag's mask the GMA
+    starts on FL and the car does not spin (2.456 m; with the mask 14.635 m): the mask, not the detection or the build."""
+    S0 = B + "gma_rejected_split_flag=0"  # before I12's rule (with it the GMA starts on FL: 1.639 m)
+    assert _dev(B + "gma_rejected_flag=0", S0) < 0.5 * _dev(S0)
 
 
 def test_false_alarm_before_braking_on_split_mu_no_worse_than_none(none_m):
