@@ -105,9 +105,12 @@ ABS_LOG_CAP = 60  # ABS mode changes logged per wheel (the event buffer is share
 # controller state vector (named indices)
 C_V_REF, C_STARTED, C_IMPLAUSIBLE_S, C_SENSOR_LATCH, C_GMA_START, C_GMA_WHEEL, C_T, C_SENSOR_OK, C_ABS_OK, \
     C_HBA_AVAILABLE, C_SOURCE_C1, C_SOURCE_C2, C_GMA_BLOCK, C_PUMPED_C1, C_PUMPED_C2, C_REF_EXCLUDED, \
-    C_REF_PERSIST_S, C_BRAKED_S, C_GMA_PRE, C_NAMED_LIMITED = range(20)
+    C_REF_PERSIST_S, C_BRAKED_S, C_GMA_PRE, C_NAMED_LIMITED, C_LOCK_P0, C_LOCK_P1, C_LOCK_REJ = range(23)
 SRC_UNDECIDED, SRC_PUMP, SRC_DRIVER = 0.0, 1.0, 2.0  # per circuit during an assist (C_SOURCE_C1/C2)
-CTL_SIZE = 20
+CTL_SIZE = 23
+# C_LOCK_P0/1: each front's ABS lock level while the brake is on - its estimated pressure when ABS last began a dump
+# (0 none yet, -1 skip the next dump; cleared when the brake is released); read by gma_rejected_split_flag only.
+# C_LOCK_REJ = 1 + the rejected front whose lock level was reset at its rejection (gma_rejected_split_flag)
 # C_NAMED_LIMITED = 1 + the TPMS-named front whose brake the yaw limitation has held or dumped in this named window
 # (named_front_yaw_flag; 0 none): it re-builds in pulses, never by a step to the driver's pressure
 # C_GMA_PRE = 1 + the front wheel whose split-mu GMA was running when a blowout detection on the OTHER front made it
@@ -508,6 +511,9 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             wheels[i, A_BUILD_S] = 0.0
         elif new == abs_fn.BUILD:
             wheels[i, A_BUILD_S] += dt
+        if i < 2 and new == abs_fn.DUMP and mode != abs_fn.DUMP:
+            # the front's lock level (gma_rejected_split_flag); -1: this dump ends the rejected front's re-apply step
+            ctl[C_LOCK_P0 + i] = wheels[i, A_P_EST] if ctl[C_LOCK_P0 + i] >= 0.0 else 0.0
         wheels[i, A_MODE] = new
         if new == abs_fn.HOLD or new == abs_fn.DUMP:
             wheels[i, A_SINCE_HD_S] = 0.0
@@ -544,6 +550,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         ctl[C_GMA_BLOCK] = 0.0
     if ctl[C_GMA_BLOCK] < 0.5 or not bls:
         ctl[C_GMA_PRE] = 0.0
+    if not bls:
+        ctl[C_LOCK_P0] = 0.0
+        ctl[C_LOCK_P1] = 0.0
+        ctl[C_LOCK_REJ] = 0.0
     blk = int(ctl[C_GMA_BLOCK]) - 1
     # (gma_blown_front_flag) the blown front released by a compensation on the other front: its ABS hold/dump activity
     # is the flat tire's / the release's, not a split-mu road's - it does not start the GMA on the compensating wheel
@@ -564,6 +574,29 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         # evidence the function did not cause - once the detection is rejected it counts again, so the GMA restarts
         # (false FR alarm on split-mu, FR on snow, 80 km/h pedal 0.3: FL at 47 bar without it, 3.50 m vs 1.89 none)
         blk_r = -1
+    blk_a = blk  # the compensating front's activity masked by its block
+    if blk_r >= 0 and p.blowout_compensation_gma_rejected_split_flag > 0.5:
+        # (gma_rejected_split_flag, 0 = seeded defect = both fronts masked until the block ends) after the rejection the
+        # function no longer acts: the GMA is judged from the two fronts' ABS lock levels, as the no-function ESP would
+        # meet them. Under one driver's pressure the front whose lock level is at most half the other's reaches ABS
+        # alone - a split surface (UN R13-H Annex 6 split-mu test: k_H / k_L >= 2; a locking front's pressure is
+        # proportional to its friction) - so its activity counts and the other's stays masked: the GMA starts on the
+        # high-mu front. Lock levels within a factor 2 (a curve or an even road, H2's case) keep both masked as before.
+        # RI1: FR on snow named before an HBA pedal, FL built and rejected; FL at its dry lock level never left ABS,
+        # both masked, no GMA: FL 41-47 vs FR 8-11 bar, 14.635 m vs 1.888 without the function.
+        # The rejected front's lock level counts only from its second dump after the rejection: it was released, then
+        # re-applied at once to the driver's pressure (reject_reapply_flag), so its first dump marks that step, not the
+        # road (the estimate jumps to the source: RI1's case read FR 150 bar against FL 58, the wrong way round)
+        if int(ctl[C_LOCK_REJ]) - 1 != blk_r:
+            ctl[C_LOCK_REJ] = blk_r + 1.0
+            ctl[C_LOCK_P0 + blk_r] = -1.0
+        p_r = ctl[C_LOCK_P0 + blk_r]
+        p_k = ctl[C_LOCK_P0 + blk]
+        if p_r > 0.0 and p_k > 0.0:
+            if 2.0 * p_r <= p_k:
+                blk_r = -1  # the rejected front is the low-mu side: its activity counts
+            elif 2.0 * p_k <= p_r:
+                blk_a = -1  # the compensating front is the low-mu side: its activity counts
     # A FRONT wheel only NAMED by the TPMS (excluded from the reference, not yet detected: the compensation IDLE, not
     # after a rejection) has a rolling radius the ECU does not know (spec tire_blowout.md 6: R_out -> R_in): its
     # nominal-radius speed overstates its periphery, the slip ABS reads on it is short by (R_out - R_eff)/R_eff
@@ -577,8 +610,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     # treated as the side with the larger brake force, its build delayed and its yaw moment limited (measured: masking
     # both fronts while one is named - no GMA at all - moved 15 points worse, a new violation r41 #469; findings I4)
     blk_n = named_f if p.esp_named_front_gma_flag > 0.5 else -1
-    act0 = wheels[0, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 0 and blk_b != 0 and blk_r != 0 and blk_n != 0
-    act1 = wheels[1, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk != 1 and blk_b != 1 and blk_r != 1 and blk_n != 1
+    act0 = wheels[0, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk_a != 0 and blk_b != 0 and blk_r != 0 and blk_n != 0
+    act1 = wheels[1, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S and blk_a != 1 and blk_b != 1 and blk_r != 1 and blk_n != 1
     spin_front = tgt if (0 <= tgt < 2 and bst[bc.S_LIMIT_CODE] == bc.LIMIT_SPIN_FRONT) else -1
     if act0 != act1 and ctl[C_GMA_WHEEL] < 0.0 and abs_allowed and (1 if act0 else 0) != spin_front:
         # (never on the spin-front wheel: ended above, it was re-armed here in the same period, its start reset
@@ -596,6 +629,16 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     yaw_dev = meas.yaw_rate_radps
     if p.esp_gma_yaw_reference_flag > 0.5:
         yaw_dev = meas.yaw_rate_radps - bc.reference_yaw_rate(meas.steering_angle_rad, v_ref, p)
+    if (g >= 0 and int(wheels[g, A_MODE]) == abs_fn.HOLD and 0 <= rej < 2
+            and p.blowout_compensation_gma_rejected_hold_dump_flag > 0.5
+            and yaw_dev * (1.0 if g == 0 else -1.0) > p.esp_yaw_dump_rate_radps):
+        # (gma_rejected_hold_dump_flag, 0 = seeded defect = the yaw limitation waits for the wheel's ABS hold to end)
+        # after a FRONT rejection the GMA's (high-mu) wheel was built by the function and the driver before any GMA
+        # could delay it, and ABS may hold it at its high-mu lock level indefinitely: the yaw limitation's dump toward
+        # its side (yaw beyond yaw_dump_rate) outranks the hold - a hold only stops the rise, the yaw says the brake-force
+        # difference is already too large (PRIORITY: DUMP over HOLD). I12: FR on snow named, 100 km/h, pedal 0.3: FL
+        # held at 48 bar from 0.9 s with the GMA started at 1.1 s, 15.898 m vs 2.633 m without the function.
+        wheels[g, A_REQUEST] = R_DUMP
     if g >= 0 and (int(wheels[g, A_MODE]) == abs_fn.OFF or int(wheels[g, A_MODE]) == abs_fn.BUILD):
         elapsed = t - ctl[C_GMA_START]
         # yaw toward the high-mu side (braking the left wheel yaws the car left, CCW +), beyond the steered reference

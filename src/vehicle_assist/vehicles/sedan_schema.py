@@ -295,6 +295,13 @@ class SedanBlowoutCompensation(Strict):
     # gma_rejected_flag not when the GMA on the compensating front had run before the detection (ended by
     # gma_blown_front_flag): that split-mu evidence was not the function's doing; 0 = seeded defect (H2: ignored always)
     gma_rejected_pre_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # after a front rejection with both fronts masked (block + gma_rejected_flag): the front whose ABS lock level is at
+    # most half the other's (UN R13-H Annex 6 split surface k_H/k_L >= 2) counts again, so the GMA starts on the
+    # high-mu front; 0 = seeded defect (both masked until the block ends: no GMA, RI1 14.635 m vs 1.888 none)
+    gma_rejected_split_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # after a front rejection the GMA's yaw dump (yaw beyond esp yaw_dump_rate toward the GMA wheel's side) outranks
+    # that wheel's ABS hold; 0 = seeded defect (the yaw limitation waits for the hold to end: FL held 48 bar, 15.9 m)
+    gma_rejected_hold_dump_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # measured_mu_raise as a guaranteed lower bound: brake force at the pad-fade edge, f(H) against the C_x upper
     # tolerance, mu*F_z >= 2*F_lo/(1 + sqrt(1 - f_lo)) (Dugoff, spec 2.3), over the present load at the measured a_x
     # (+ lateral transfer); S_LIN_S reset per plan; 0 = seeded defect (G7's reading: gain 0.82, nominal C_x, plan load)
