@@ -215,6 +215,14 @@ def make_requirement(spec: RequirementSpec, layout: str, where: str, prefix: str
                      default_baseline: tuple[str, ...] = ()) -> Requirement:
     if spec.kind == "no_worse_than_baseline":
         metric = spec.metric
+        from vehicle_assist.metrics import METRICS
+
+        for name in [m.strip() for m in metric.split(",") if m.strip()]:
+            # (review RI3, session i) an unknown name was read as NaN in both runs: the requirement silently "not
+            # judged" everywhere, and with several metrics its NaN hid the others' violations
+            if name not in METRICS:
+                raise InputError(f"{where}: {prefix}.metric = {metric!r}: {name!r} is no metric"
+                                 f"{did_you_mean(name, METRICS)}; see 'vehicle-assist metrics'")
         formula = spec.formula or (f"{metric} <= max({spec.rollback_floor_m:g}, baseline {metric}); "
                                    "no engine stall the baseline does not have")
         baseline = tuple(spec.baseline) or default_baseline or ("vehicle.hill_start_assist.enabled_flag=0",)
