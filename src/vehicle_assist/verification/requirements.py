@@ -404,7 +404,10 @@ def comparative_robustness(req: Requirement, metrics: dict, baseline_metrics: di
     names = comparative_metrics(req)
     robs = [no_worse_robustness(metrics, baseline_metrics, m, req.rollback_floor_m) for m in names]
     if any(math.isnan(r) for r in robs):
-        return float("nan")
+        # a metric the twin has no value of cannot be judged; a violation on another still stands (review RI3,
+        # session i: the NaN hid it - the conjunction is violated whatever the unjudged part)
+        worst = min((r for r in robs if not math.isnan(r)), default=float("nan"))
+        return float(worst) if worst < 0.0 else float("nan")
     floor = req.rollback_floor_m
     live = [r for m, r in zip(names, robs)
             if not (float(metrics.get(m, float("nan"))) <= floor and float(baseline_metrics.get(m, float("nan"))) <= floor)]
