@@ -1,5 +1,5 @@
-"""rear_accel_bound_flag = 2 (review RI3, session i): the friction the measured accelerations prove is a lower bound also
-when the MEASURED lateral acceleration points away from the blown side (the blown front is then the OUTER wheel).
+"""rear_accel_bound_flag = 2 (review RI3, session i): the friction the measured accelerations prove is a lower bound
+also when the MEASURED lateral acceleration points away from the blown side (the blown front is then the OUTER wheel).
 
 The rule's gate is the STEERED curve toward the blown side (reference yaw rate of the steer angle); the measured a_y may
 point the other way. RI2's bound took the blown front's load Z without lateral transfer ("it is the inner front"); the
@@ -55,7 +55,8 @@ def cap_and_true_circle_n(p, mu, a_y, v):
     bc.braking_rule(st, FL, FR, bc.HOLD, 1.0, a_x, a_y_ref, 0.0, 100.0e5, p_est, p, R_TOWARD, a_y_meas, v)
     cap = st[bc.S_REAR_CAP] * p.brakes_rear_gain_nm_per_pa / p.body_wheel_radius_m
     gl = bc.blown_ecu_loads(FL, a_x, p)
-    true = min(bc.wheel_circle_limit_mu(2, gl[2], a_y_ref, mu, FL, p), bc.wheel_circle_limit_mu(3, gl[3], a_y_ref, mu, FL, p))
+    true = min(bc.wheel_circle_limit_mu(2, gl[2], a_y_ref, mu, FL, p),
+               bc.wheel_circle_limit_mu(3, gl[3], a_y_ref, mu, FL, p))
     return cap, true
 
 
