@@ -151,3 +151,29 @@ def test_bound_not_a_whole_number_of_samples_is_one_line():
     with pytest.raises(InputError) as err:
         robustness(get_requirement("hill_start_amt.start_completes"), tr)
     assert "\n" not in str(err.value) and "record_period_s" in str(err.value)
+
+
+@pytest.mark.parametrize("metric", ["rollback_distnce_m", "rollback_distance_m,engine_stalled_flg"])
+def test_comparative_unknown_metric_one_line_error(metric):
+    """Review RI3 (session i): a comparative requirement naming an unknown metric (one, or one of several) is refused
+    at load with one line; before, both runs read NaN for it and the requirement was silently 'not judged' (with
+    several metrics its NaN also hid the other metrics' violations)."""
+    import vehicle_assist as va
+
+    with pytest.raises(InputError) as exc:
+        va.load_scenario("hsa_truck_full_14deg_8p0bar",
+                         [f"requirements=[{{id='x', kind='no_worse_than_baseline', metric='{metric}'}}]"])
+    msg = str(exc.value)
+    assert "\n" not in msg and "requirements.0.metric" in msg and "is no metric" in msg and "did you mean" in msg
+
+
+def test_comparative_violation_stands_next_to_an_unjudged_metric():
+    """Review RI3 (session i): per side, the function 0.3 m beyond the LEFT marking where the twin stayed in (left:
+    max(0, 0) - 0.3 = -0.3 m, a violation by hand) while the twin has no value for the right side (NaN: cannot be
+    judged). The conjunction is violated whatever the unjudged part: -0.3 m, not NaN ('not counted'). With nothing
+    violated the NaN stays NaN (no pass is invented)."""
+    r = get_requirement("tire_blowout.no_lane_departure_caused")
+    left, right = "blowout_lane_exceedance_left_m", "blowout_lane_exceedance_right_m"
+    nan = float("nan")
+    assert comparative_robustness(r, {left: 0.3, right: 0.0}, {left: 0.0, right: nan}) == pytest.approx(-0.3)
+    assert math.isnan(comparative_robustness(r, {left: 0.0, right: 0.0}, {left: 0.2, right: nan}))

@@ -1853,6 +1853,12 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
                     # the blown front's load at its most: the ECU's static + braking transfer before the flat's radius
                     # loss (eqs. 3-4) and the lateral transfer (it is the inner front here) take load off it
                     fz_b = ecu_loads(p, a_x)[b]
+                    if p.blowout_compensation_rear_accel_bound_flag > 1.5 and toward_blown_side(b, a_y_meas) < 0.0:
+                        # (2; 1 = RI2's bound = the code before) the gate is the STEERED curve; where the MEASURED
+                        # lateral acceleration points away from the blown side that wheel is the OUTER one and its
+                        # lateral transfer (eqs. 3-4, wheel_load_and_lateral_n) loads it: without it Z was no upper
+                        # bound and mu read up to 4.5 % above the road's (review RI3, session i)
+                        fz_b = max(fz_b, wheel_load_and_lateral_n(b, fz_b, a_y_meas, b, p)[0])
                     mu_acc = max(mu, accel_friction_lower_bound(a_x, a_y_meas, v_ref, fz_b, p))
                 else:
                     mu_acc = max(mu, math.sqrt(a_x * a_x + a_y_meas * a_y_meas) / 9.81)

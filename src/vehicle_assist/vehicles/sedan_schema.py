@@ -328,7 +328,9 @@ class SedanBlowoutCompensation(Strict):
     # rear_accel_circle_flag's friction from the measured acceleration made a lower bound: less the air/rolling
     # resistance (common.md 3.1/3.3, f <= 0.018) and the blown rim's drag (<= mu*F'_z, tire_blowout.md 4) that no tire
     # friction carries (review RI2: |a|/g read 14-15 % above the road's peak); 0 = seeded defect (|a|/g, I2's reading)
-    rear_accel_bound_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # 2 (review RI3): the blown front's load bound Z also takes the lateral transfer when the MEASURED lateral
+    # acceleration points away from the blown side (it is the outer wheel; eqs. 3-4); 1 = RI2's bound (the code before)
+    rear_accel_bound_flag: Annotated[int, Field(ge=0, le=2)] = 2
     # braking rule, turn toward the blown side (its inner front held), yaw away from it: the compensating front's
     # floor (the drag balance) never above braking_lock_floor_frac x its pressure at ABS's last dump start (the lock
     # level; re-apply to a fraction of the lock pressure, EP 0 380 882); forgotten once ABS is quiet on the wheel;

@@ -215,6 +215,14 @@ def make_requirement(spec: RequirementSpec, layout: str, where: str, prefix: str
                      default_baseline: tuple[str, ...] = ()) -> Requirement:
     if spec.kind == "no_worse_than_baseline":
         metric = spec.metric
+        from vehicle_assist.metrics import METRICS
+
+        for name in [m.strip() for m in metric.split(",") if m.strip()]:
+            # (review RI3, session i) an unknown name was read as NaN in both runs: the requirement silently "not
+            # judged" everywhere, and with several metrics its NaN hid the others' violations
+            if name not in METRICS:
+                raise InputError(f"{where}: {prefix}.metric = {metric!r}: {name!r} is no metric"
+                                 f"{did_you_mean(name, METRICS)}; see 'vehicle-assist metrics'")
         formula = spec.formula or (f"{metric} <= max({spec.rollback_floor_m:g}, baseline {metric}); "
                                    "no engine stall the baseline does not have")
         baseline = tuple(spec.baseline) or default_baseline or ("vehicle.hill_start_assist.enabled_flag=0",)
@@ -396,7 +404,10 @@ def comparative_robustness(req: Requirement, metrics: dict, baseline_metrics: di
     names = comparative_metrics(req)
     robs = [no_worse_robustness(metrics, baseline_metrics, m, req.rollback_floor_m) for m in names]
     if any(math.isnan(r) for r in robs):
-        return float("nan")
+        # a metric the twin has no value of cannot be judged; a violation on another still stands (review RI3,
+        # session i: the NaN hid it - the conjunction is violated whatever the unjudged part)
+        worst = min((r for r in robs if not math.isnan(r)), default=float("nan"))
+        return float(worst) if worst < 0.0 else float("nan")
     floor = req.rollback_floor_m
     live = [r for m, r in zip(names, robs)
             if not (float(metrics.get(m, float("nan"))) <= floor and float(baseline_metrics.get(m, float("nan"))) <= floor)]
