@@ -9,7 +9,7 @@ identical: generate the digests from the code before the change, then compare af
 ``--layouts truck_amt,ev_ehb`` restricts the scenarios. ``benchmarks/digests/main_<commit>.json`` holds the digests
 of all shipped scenarios at that commit (now bbb3b28, 82 scenarios, all regenerated at that commit: 7242b18's, with four
 traces session h changed on purpose - blowout_false_tpms_braking_60kph, blowout_braking_60kph_off, hba_split_mu_80kph and
-blowout_lf_80kph_curve, see docs/functions/tire_blowout.md 'Status at the end of session 2026-11-24 h'; the former
+blowout_lf_80kph_curve, see docs/functions/tire_blowout_sessions.md 'Status at the end of session 2026-11-24 h'; the former
 f44e3f2 snapshot, taken before issue 13's engine changes, no longer matched 44 of them after intended model changes and
 was replaced). Work that changes
 traces on purpose (a model fix) should compare against the commit just before it, and whoever lands such a change

@@ -1,6 +1,6 @@
 """The blown FRONT wheel held (not released) in a turn toward it while the driver brakes and the other front is at its
 ABS limit (``blown_front_hold_flag``, functions/blowout_compensation.py ``blown_front_hold``; session 2026-11-24 g, task
-G2, findings_F.md X2).
+G2, tire_blowout_findings.md X2).
 
 Lead random 41 b512 #273 (envelope data/envelopes/tire_blowout.toml): FL blown at 109 km/h on mu 0.369 in a 1000 m
 curve toward FL, steering fixed, the driver braking from t_b - 0.49 s (59 bar). The TPMS-path detection released FL

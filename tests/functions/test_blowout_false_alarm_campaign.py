@@ -1,6 +1,6 @@
 """Paper 004's false-alarm ``reproduce`` campaign (procedures/blowout_study.py falsify_extra: CMA-ES seed 2026, budget 48,
 batch 8, ``tire_blowout.stay_in_lane`` over data/envelopes/tire_blowout_false_alarm.toml; issue #10 'Faults': a false
-blowout detection must not pull the car off its lane). Session i, I7 (findings_F.md "I7 (session i)").
+blowout detection must not pull the car off its lane). Session i, I7 (tire_blowout_findings.md "I7 (session i)").
 
 At main cc64ff5 the campaign FAILs with 16 violations in 48 points; at EVERY one of them the same false alarm without
 the function (the envelope's twin, enabled_flag=0) leaves the lane as well, and by more (campaign #10, its first
@@ -104,7 +104,7 @@ def _fr_peak_bar(sets):
 
 
 def test_candidate_single_source_build_leaves_the_compensating_front_at_the_drivers_pressure():
-    """single_source_build_flag = 1 (candidate, shipped 0: measured worse over the false-alarm sets, findings_F.md
+    """single_source_build_flag = 1 (candidate, shipped 0: measured worse over the false-alarm sets, tire_blowout_findings.md
     "I7 (session i)"): the shipped false FL alarm (60 km/h, 80 N pedal, TPMS-only detection at 1.05 s, rejected
     1.125 s) leaves FR at the driver's/ABS pressure until the rejection - its peak in 1.0-1.2 s as the car without the
     function (47.8 bar); the code before (flag 0) builds it (53.3 bar). Reference: the twin's plant pressure."""

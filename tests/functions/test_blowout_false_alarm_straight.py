@@ -1,4 +1,4 @@
-"""A false TPMS alarm on a braking car on a STRAIGHT road with the steering held (session i, I8; findings_F.md
+"""A false TPMS alarm on a braking car on a STRAIGHT road with the steering held (session i, I8; tire_blowout_findings.md
 "I8 (session i)"): the lead's reproduce of paper 004's false-alarm campaign for ``tire_blowout.no_lane_departure_caused``
 (procedures/blowout_study.py falsify_extra: CMA-ES 2026, -n 48, batch 8) found ONE violation, #25: FR named, straight,
 96 km/h, mu scale 0.564, fixed steering, pedal 0.327 from 1.90 s at 9.6 /s - 0.991 m off the lane centre with the
@@ -13,7 +13,7 @@ References (independent of the code's formulas): the same car without the functi
 road and false alarm: a symmetric braking car on a straight road keeps its heading, 0.000 m), the requirement's own
 comparison (data/requirements/tire_blowout.toml no_lane_departure_caused / no_worse_than_no_compensation, rollback floor
 0), and the panic-stop floor 0.5 * mu_peak * g (tests/support.panic_stop_decel_bound; UN R13-H Annex 6 asks 0.75).
-Candidate tpms_symmetric_release_flag (SHIPPED 0, NOT enabled - findings_F.md I8: it costs the real braking blowouts the
+Candidate tpms_symmetric_release_flag (SHIPPED 0, NOT enabled - tire_blowout_findings.md I8: it costs the real braking blowouts the
 counter-brake for the confirmation time, bb47 #52 0.283 -> 2.084 m): the checks below run it explicitly (flag 1) and
 fail with the code before = the shipped code (flag 0, the seeded defect); the shipped code's violation of the requirement
 at #25 stays visible as a strict xfail."""
@@ -104,7 +104,7 @@ def test_confirmation_release_keeps_the_panic_stop_floor(runs):
 
 @pytest.mark.xfail(strict=True, reason="shipped code (tpms_symmetric_release_flag 0): fa_caused #25 0.991 m, 0.013 m "
                    "beyond the lane vs 0.000 without the function - the candidate that fixes it is not enabled "
-                   "(findings_F.md I8, session i)")
+                   "(tire_blowout_findings.md I8, session i)")
 def test_shipped_code_causes_no_lane_departure():
     """no_lane_departure_caused with the code as shipped (open: see the module docstring)."""
     env = load_envelope("tire_blowout_false_alarm")

@@ -108,7 +108,7 @@ def test_refused_when_the_rotation_keeps_growing(params):
     assert d.mode == "HOLD", d.rows
 
 
-# random 7 b64 -R braking=brakes -R wheel=fl,fr, history #32 (findings_F.md RG2)
+# random 7 b64 -R braking=brakes -R wheel=fl,fr, history #32 (tire_blowout_findings.md RG2)
 P32 = {"speed": 106.80442449144316, "mu": 0.428669191692977, "delay": 0.3414353862539548,
        "wheel_speed_noise": 0.06271122235923189, "noise_seed": 5516.0, "brake_gain": 1.0845858509340665,
        "brake.start_s": 0.6306299023003397, "brake.level_frac": 0.37208577075880755,

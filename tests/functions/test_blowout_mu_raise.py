@@ -1,5 +1,5 @@
 """The braking rule's measured friction raised from the compensating front's readings while the driver brakes
-(functions/blowout_compensation.py ``measured_mu_raise``; docs/functions/tire_blowout.md status g item 10, findings_F.md
+(functions/blowout_compensation.py ``measured_mu_raise``; docs/functions/tire_blowout_sessions.md status g item 10, tire_blowout_findings.md
 H1). A friction OVER-estimate is the unsafe direction: the rear pair is capped at the raised friction.
 
 Independent reference: a FORWARD Dugoff tire (spec 2.3, combined slip) written here - F_x = C_x*s/(1 - s)*f(H),
@@ -311,7 +311,7 @@ def test_abs_dump_raise_over_states_with_h1_reading():
     assert worst > 1.2, (worst, arg)
 
 
-# --- I1 (session i): the dump reading under the envelope's wheel-speed noise (findings_F.md RH3, I1) -------------------
+# --- I1 (session i): the dump reading under the envelope's wheel-speed noise (tire_blowout_findings.md RH3, I1) -------------------
 NOISE0 = "vehicle.blowout_compensation.abs_dump_noise_flag=0"
 NOISE_RADPS = 0.3  # the envelope's largest white wheel-speed noise (data/envelopes/tire_blowout.toml wheel_speed_noise)
 NOISY_GRID = list(itertools.product(
@@ -409,7 +409,7 @@ def test_dump_window_reading_is_the_least_squares_slope_and_its_noise_the_closed
     closed = sig_v / (DT * math.sqrt(n * (n * n - 1) / 12.0))
     assert np.std(got) == pytest.approx(closed, rel=0.03)
     # the wheel went back to W_N 5 ms before the dump: the estimate stepped 53 -> 168 bar at once, the wheel had not
-    # (findings_F.md I1, panic stop 80 km/h mu 0.45 pad 0.7, 5.635 s): the last interval counts at its start pressure
+    # (tire_blowout_findings.md I1, panic stop 80 km/h mu 0.45 pad 0.7, 5.635 s): the last interval counts at its start pressure
     sw[bc.S_P_BUF + FR * n:bc.S_P_BUF + FR * n + n] = 53.2e5
     assert bc.dump_window_reading(sw, FR, 167.8e5, DT)[0] == pytest.approx(53.2e5)
     sw = bc.initial_state()

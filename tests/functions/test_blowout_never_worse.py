@@ -188,7 +188,7 @@ def test_front_low_friction_point_no_worse(front_case):
 def test_front_low_friction_point_fails_with_the_defect(front_case):
     """Negative control: planned from mu 0.8 alone (tire_capacity_flag = 0) AND without the understeer rule's
     persistence evidence (understeer_persist_flag = 0) the point is a counterexample again. The capacity rule alone
-    kept them below none before session h, the persistence alone does since (0.47 / 0.64 / 0.33 / 0.55 m, findings_F.md
+    kept them below none before session h, the persistence alone does since (0.47 / 0.64 / 0.33 / 0.55 m, tire_blowout_findings.md
     H6): this control shows that the two together are needed against the defect, not that the capacity rule alone is."""
     assert front_case["defect"] > front_case["off"]
 

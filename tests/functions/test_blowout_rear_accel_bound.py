@@ -1,5 +1,5 @@
 """rear_accel_circle_flag's friction from the measured acceleration must be a LOWER bound of the road friction
-(``rear_accel_bound_flag``; review RI2, session i, findings_F.md "RI2 (session i)").
+(``rear_accel_bound_flag``; review RI2, session i, tire_blowout_findings.md "RI2 (session i)").
 
 The accelerometers read the specific force: every contact and air force over m. Two parts of it are not tire friction
 bounded by mu*F_z of a healthy wheel: the air drag and rolling resistance (common.md 3.1, 3.3), and the blown front's

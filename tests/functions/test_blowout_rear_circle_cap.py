@@ -1,5 +1,5 @@
 """The braking rule's rear pair while ABS acts on the compensating front in a curve toward the blown side
-(``rear_accel_circle_flag``; docs/functions/tire_blowout.md status h item 6, findings_F.md RH1 / I2 (session i)).
+(``rear_accel_circle_flag``; docs/functions/tire_blowout_sessions.md status h item 6, tire_blowout_findings.md RH1 / I2 (session i)).
 
 Session h (H1, ``rear_abs_limit_flag``) left the rear pair to ABS while the compensating front is ABS-active: the
 panic stops got their deceleration back (3.1 -> 3.8 m/s^2), but in a low-mu curve the rear friction circle had been the

@@ -1,5 +1,5 @@
 """Rear blowouts at 100-120 km/h in low-friction curves with a braking driver (``rear_braking_flag``, functions/
-blowout_compensation.py ``rear_braking_rule``; session 2026-11-24 g, task G4, findings_F.md R2 update / G4).
+blowout_compensation.py ``rear_braking_rule``; session 2026-11-24 g, task G4, tire_blowout_findings.md R2 update / G4).
 
 Reviewer R2's targeted search (falsify tire_blowout -r tire_blowout.no_worse_than_no_compensation --optimizer random
 --keep-going --seed 29 -n 64 -b 32 -R wheel=rl,rr -R curve=r650,r1000 -R speed=100..120 -R mu=0.3..0.45) at main
@@ -16,7 +16,7 @@ Reviewer R2's targeted search (falsify tire_blowout -r tire_blowout.no_worse_tha
   (the twin's rear pair cycles at 10-27 bar under ABS's select-low with the flat wheel) and the yaw rate falls 1-3.5
   deg/s short of the steering reference: 2.207 m vs 0.572 m. Not fixed (strict xfail below; the front braking rule's yaw
   feedback on the driver's share gave 1.42 m but turned TPMS-path detections elsewhere into yaw-implausible rejections;
-  tire_blowout.md "Session g, G4").
+  tire_blowout_sessions.md "Session g, G4").
 * #0 RR 101 km/h mu 0.376 r1000, follower, no pedal: not a braking point (the rule does not act). Both cars are in a
   growing driver-induced lane oscillation at the end of the 5-s run (compensated -1.78 m at 5.0 s, twin +1.27 m and
   rising); over 6 / 8 / 10 s: 2.27 / 3.94 / 4.40 m vs 2.18 / 7.13 / 17.97 m - the verdict at 5 s is the oscillation's

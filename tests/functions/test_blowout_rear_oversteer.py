@@ -116,7 +116,7 @@ def test_cap_ends_back_inside_the_region(params):
 
 def test_rule_pays_off_at_the_finding_point():
     """System level (review r1, session f: with the flag at 0 only the unit checks above failed; no scenario showed the
-    rule's effect). Falsifier random 61 b128 #101 (findings_F.md Y, tests/verification/test_blowout_release_bound.py
+    rule's effect). Falsifier random 61 b128 #101 (tire_blowout_findings.md Y, tests/verification/test_blowout_release_bound.py
     P101: FL 110 km/h, mu 0.58, straight, pedal from t_b - 0.15 s): the rear pair carried the driver's 55-77 bar while
     the car yawed toward the blown side. Reference: the requirement tire_blowout.no_worse_than_no_compensation (the
     no-compensation twin, 8.51 m) and the seeded defect (the code before, 2.31 m; with the rule 1.99 m)."""

@@ -27,7 +27,7 @@ FL, FR = 0, 1
 FLAG = "vehicle.blowout_compensation.rear_oversteer_yaw_flag"
 METRIC = "blowout_lateral_deviation_run_max_m"
 
-# R1's random 3 b64 #58 (findings_F.md R1/G1/G6; /tmp/r1/drag0_rand3/falsify.json history index 58), blowout at 1.0 s
+# R1's random 3 b64 #58 (tire_blowout_findings.md R1/G1/G6; /tmp/r1/drag0_rand3/falsify.json history index 58), blowout at 1.0 s
 P58 = {"speed": 93.47875142795448, "mu": 0.6048965912388176, "delay": 0.40254229323044655,
        "wheel_speed_noise": 0.0165856936913082, "noise_seed": 1641.0, "brake_gain": 1.1781193320282932,
        "brake.start_s": 1.0597768920215556, "brake.level_frac": 0.39592397464005225,
@@ -141,6 +141,6 @@ def test_58_closer_to_no_compensation(runs58):
     "#58 remains worse than no compensation: before the detection (1.0-1.435 s) the TPMS-named FL is out of the ESP "
     "reference, so the car brakes at the ABS limit (rears 41-50 bar, the diagonally unloaded RR at 8-11 % slip) and "
     "yaws to 0.225 rad/s toward FL while the twin's reference rides the flat FL (30.6 vs 25.4 m/s) and ABS holds its "
-    "intact wheels at 3-26 bar (findings_F.md G6)"))
+    "intact wheels at 3-26 bar (tire_blowout_findings.md G6)"))
 def test_58_never_worse_than_no_compensation(runs58):
     assert runs58["on"].metrics[METRIC] <= runs58["none"].metrics[METRIC]

@@ -99,7 +99,7 @@ def _false_fr_alarm(extra=(), radius_m=650):
 def test_false_fr_alarm_in_a_left_curve_not_made_worse(radius_m, why):
     """False FR alarm in a left curve: the understeering car (at 650 m: yaw -0.0045..-0.0008 rad/s against a +0.042
     rad/s reference at 1.08-1.10 s) is not an oversteer toward FR. With the defect the rear pair was held and the
-    detection counted as confirmed (findings_F.md RG2: 11 of 640 false-alarm grid points worse by > 0.05 m, all FR
+    detection counted as confirmed (tire_blowout_findings.md RG2: 11 of 640 false-alarm grid points worse by > 0.05 m, all FR
     named in a left curve)."""
     # run isolated from gma_rejected_flag (session h, H2): that rule removes the GMA the rejected FR's re-apply started on
     # FL, which is where most of this defect's loss went (with it: 650 m before G6 3.044 -> 1.593 m, the G6 defect

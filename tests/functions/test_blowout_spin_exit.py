@@ -1,5 +1,5 @@
 """Exit of the spin-front rule (``spin_exit_flag``, functions/blowout_compensation.py ``spin_stopped``; open item 5 of
-session 2026-11-24 e, findings_F.md Z): once the car has stayed back inside the stable region - the mu-0.8 refusal
+session 2026-11-24 e, tire_blowout_findings.md Z): once the car has stayed back inside the stable region - the mu-0.8 refusal
 bounds (Rajamani 2012 ch. 8), the sideslip phase plane (Inagaki et al. 1994), the yaw deviation from the steered
 reference within the closed-loop dead band and the spin's heading taken back - for the settling time of the ECU's
 single-track yaw mode, the front wheel is released and the rear compensating wheel re-planned to the balance.
@@ -93,7 +93,7 @@ def test_without_the_exit_the_front_stays_braked(case):
 
 
 # Ramped release of the front at the exit (spin_release_ramp_flag): the rear-grid points where the exit released at once
-# did harm (findings_F.md Z/Z2: RL, held driver, 650 m, detection 0.4 s): the car yawed back toward the blown side at
+# did harm (tire_blowout_findings.md Z/Z2: RL, held driver, 650 m, detection 0.4 s): the car yawed back toward the blown side at
 # once (100 km/h 0.3: exit 3.94 s, 0.062 rad/s at 4.25 s). Run max [m] no exit / released at once / ramp (none):
 # 100 km/h 0.3: 3.402 / 3.780 / 3.357 (10.188); 120 km/h 0.3: 2.875 / 3.193 / 2.851 (6.328); 120 km/h 0.45: 1.688 /
 # 2.524 / 1.687 (13.958).

@@ -1,5 +1,5 @@
-"""Front blowouts under a braking driver left worse than the no-compensation twin after session g's G1 (findings_F.md
-"G1 (session g)", "G5 (session g)"; tire_blowout.md "Session g, G5"): falsify tire_blowout -r
+"""Front blowouts under a braking driver left worse than the no-compensation twin after session g's G1 (tire_blowout_findings.md
+"G1 (session g)", "G5 (session g)"; tire_blowout_sessions.md "Session g, G5"): falsify tire_blowout -r
 tire_blowout.no_worse_than_no_compensation --optimizer random --seed 47 -n 128 --keep-going -R braking=brakes (the
 same at main 2ff4871 and 399b878).
 
@@ -164,7 +164,7 @@ def test_106_no_worse_than_without_compensation(env):
                    "window): FR held at the nominal-mu balance 43.6 bar at its ABS limit, yaw 2-4 deg/s below the "
                    "reference for 1.5 s: 0.917 vs none 0.234 m. A braking variant of the understeer rule gave 0.051 m "
                    "here but 5 points worse by 0.3-1.5 m (fixed-steering: the over-compensation had taken back the "
-                   "pre-detection heading error); tire_blowout.md 'Session g, G5'")
+                   "pre-detection heading error); tire_blowout_sessions.md 'Session g, G5'")
 def test_106_early_detection_no_worse_than_without_compensation(env):
     on = envelope_point_run(env, P106_EARLY).metrics[METRIC]
     none = envelope_point_run(env, P106_EARLY, baseline=True).metrics[METRIC]

@@ -1,6 +1,6 @@
 """A false TPMS alarm (no blowout) while the driver brakes at 100/120 km/h must not pull the car out of its lane
 (issue #10: "false blowout detection (no blowout happened) must not pull the car off its lane by more than a bound you
-justify"; findings_F.md P, session 2026-11-24 e). Bound: the existing false-detection bound, the 0.978 m lane margin
+justify"; tire_blowout_findings.md P, session 2026-11-24 e). Bound: the existing false-detection bound, the 0.978 m lane margin
 of metrics/blowout.py LANE_MARGIN_M = (3.75 m lane, JTG B01-2014 - 1.794 m BJ2500 width, cite:J2500)/2, whole run, the
 check of the shipped blowout_false_tpms_braking_60kph. Reference: the function off the car stays straight (0.00 m):
 the driver's symmetric braking - a false alarm must not be worse than no assist.

@@ -1,6 +1,6 @@
 """The understeer rule's restore (``understeer_flag``, functions/blowout_compensation.py ``understeer_rule``) against the
 tire-capacity rule's latch (``tire_capacity_rule``, ``understeer_cap_freeze_flag``) - session 2026-11-24 g, task G3;
-review R1 (findings_F.md R1; tire_blowout.md "Status at the end of session 2026-11-24 f").
+review R1 (tire_blowout_findings.md R1; tire_blowout_sessions.md "Status at the end of session 2026-11-24 f").
 
 References (independent of the code's own formulas):
 * Dugoff's tire (spec 2.3): in the linear region F_x = C_x*s/(1 - s); a measured brake force of a quarter of that at the

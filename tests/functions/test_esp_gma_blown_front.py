@@ -1,5 +1,5 @@
 """The ESP's yaw-moment build-up delay (GMA) is not started on the blowout compensation's front wheel by the blown
-front wheel's ABS activity (functions/esp.py, ``gma_blown_front_flag``; findings_F.md Q4).
+front wheel's ABS activity (functions/esp.py, ``gma_blown_front_flag``; tire_blowout_findings.md Q4).
 
 Reference (independent of the code's numbers): the GMA is a split-mu measure - it slows the pressure rise of the
 high-mu front wheel while the other front is in ABS control on a slippery surface (Bosch Automotive Handbook, ABS
@@ -29,7 +29,7 @@ V_MPS = 19.0  # car speed (68 km/h), all four wheels rolling free
 P_MC_PA = 100.0e5  # driver's master pressure
 FLAG = "blowout_compensation_gma_blown_front_flag"
 METRIC = "blowout_lateral_deviation_run_max_m"
-# lead falsifier random seed 41 budget 512 at main 0adb7a2, history index 53 (findings_F.md Q4)
+# lead falsifier random seed 41 budget 512 at main 0adb7a2, history index 53 (tire_blowout_findings.md Q4)
 POINT_53 = {"speed": 69.402572499852, "mu": 0.6324211876775346, "delay": 0.37702045045971516,
             "wheel_speed_noise": 0.18248045122782436, "noise_seed": 3983.0, "brake_gain": 1.038616359860554,
             "brake.start_s": 1.3126243391518382, "brake.level_frac": 0.29454981597430985,
@@ -116,7 +116,7 @@ def test_falsifier_point_53_worse_with_the_defect():
     assert _dev(0) > _dev(1)
 
 
-# lead falsifier random seed 41 budget 512 at main 0adb7a2, history index 98 (findings_F.md Q4): FR blowout, pedal
+# lead falsifier random seed 41 budget 512 at main 0adb7a2, history index 98 (tire_blowout_findings.md Q4): FR blowout, pedal
 # 0.28 s before it, 0.114 rad/s wheel-speed noise - a deceleration-only ABS dump of FL at 2.8 % slip (noise)
 POINT_98 = {"speed": 99.64005705623086, "mu": 0.49056988750182956, "delay": 0.30920795184877997,
             "wheel_speed_noise": 0.11407687913390101, "noise_seed": 6971.0, "brake_gain": 1.1350341303154194,

@@ -1,5 +1,5 @@
 """The ESP's yaw-moment build-up delay (GMA) judges yaw as the deviation from the driver's steered reference, so a
-curve's own yaw rate does not dump the delayed front (functions/esp.py, ``esp.gma_yaw_reference_flag``; findings_F.md
+curve's own yaw rate does not dump the delayed front (functions/esp.py, ``esp.gma_yaw_reference_flag``; tire_blowout_findings.md
 H2/H7, session h).
 
 Reference (independent of the code's numbers):
@@ -15,7 +15,7 @@ Reference (independent of the code's numbers):
 A 200 m curve at 80 km/h has 6.4 deg/s of yaw - above the dump threshold - all of it asked for by the steering.
 
 SHIPPED OFF (vehicle files: gma_yaw_reference_flag = 0, the code before): enabling it cost never-worse points on the
-tire_blowout envelope (findings_F.md H7); the rule's tests set the flag to 1 explicitly, and the last test of each pair
+tire_blowout envelope (tire_blowout_findings.md H7); the rule's tests set the flag to 1 explicitly, and the last test of each pair
 shows the code before fails the same check.
 
 Can fail: with the defect (flag 0 = the code before, raw yaw rate) the outer front's ABS starting the GMA on the inner

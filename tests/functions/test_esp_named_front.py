@@ -1,5 +1,5 @@
 """A FRONT wheel only NAMED by the TPMS before the detection and the ESP's GMA (``esp.named_front_gma_flag``,
-functions/esp.py; session 2026-11-24 i, task I4; docs/functions/tire_blowout.md status h items 1-2).
+functions/esp.py; session 2026-11-24 i, task I4; docs/functions/tire_blowout_sessions.md status h items 1-2).
 
 Between the TPMS alarm (FMVSS 138: 25 % pressure drop, suv_bj2500.toml ``tpms_alarm_drop_frac``) and the wheel-speed
 detection the ESP leaves the named wheel out of its reference while the blowout compensation is still idle. The named

@@ -1,5 +1,5 @@
 """HBA and the wheel only NAMED by the TPMS before the detection (``esp.hba_named_driver_flag``, functions/esp.py;
-session 2026-11-24 h, task H5; docs/functions/tire_blowout.md status item 4).
+session 2026-11-24 h, task H5; docs/functions/tire_blowout_sessions.md status item 4).
 
 Between the TPMS alarm (FMVSS 138: 25 % pressure drop, suv_bj2500.toml ``tpms_alarm_drop_frac``) and the wheel-speed
 detection the ESP leaves the named wheel out of its reference while the blowout compensation is still idle. Before the
@@ -13,7 +13,7 @@ References, independent of the code: the valve states of the ESP unit that mean 
 switching valve closed, high-pressure valve open, return pump on = wheel modes B/BP; the isolated hold HI) and the
 requirement tire_blowout.no_worse_than_no_compensation (the no-compensation twin). The valve rows fail with the seeded
 defect ``hba_named_driver_flag = 0`` (the code before, which is also the shipped default: the rule is a candidate
-NOT enabled - it moves violations instead of removing them, findings_F.md "H5 (session h)"; the rule rows set it to
+NOT enabled - it moves violations instead of removing them, tire_blowout_findings.md "H5 (session h)"; the rule rows set it to
 1). The rule does not close status item 4 (G8's CMA-ES 2026 #168 1.815 -> 1.571 m, the twin 1.368 m); H3's braking lock
 floor does (0.398 m; the never-worse rows below)."""
 from __future__ import annotations

@@ -106,7 +106,7 @@ def _n_params(scenario, *sets):
 
 @pytest.fixture(scope="module")
 def n_params():
-    """The rule (flag 1; shipped 0 - a candidate, findings_F.md I9) and the code before (flag 0), SUV and sedan."""
+    """The rule (flag 1; shipped 0 - a candidate, tire_blowout_findings.md I9) and the code before (flag 0), SUV and sedan."""
     return {
         "suv": _n_params("blowout_panic_stop_80kph", f"{FLAG}=1"),
         "sedan": _n_params("hba_snow_60kph", f"{FLAG}=1"),

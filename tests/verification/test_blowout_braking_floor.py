@@ -1,5 +1,5 @@
 """Front-left blowout, driver braking at the ABS limit, 650 m curve toward the flat front on a wet road (issue #10;
-docs/functions/tire_blowout.md "Status at the end of session 2026-11-24 g" item 1; findings_F.md G8 and H3).
+docs/functions/tire_blowout_sessions.md "Status at the end of session 2026-11-24 g" item 1; tire_blowout_findings.md G8 and H3).
 
 Points: the lead's CMA-ES seed 2026, budget 200, --keep-going on data/envelopes/tire_blowout.toml (main 7242b18),
 #108 and #172 - two of the cluster's 9 violations whose uncompensated twin has no ABS reference-speed runaway (status
@@ -118,14 +118,14 @@ def test_fa9_better_than_the_code_before(fa9):
     assert fa9["on"].metrics[METRIC] < fa9["defect"].metrics[METRIC]
 
 
-@pytest.mark.xfail(strict=True, reason="findings_F.md H8: a false alarm the function acts on until its yaw_implausible "
+@pytest.mark.xfail(strict=True, reason="tire_blowout_findings.md H8: a false alarm the function acts on until its yaw_implausible "
                    "rejection at 2.705 s (2.345 s with the flag at 0, 2.255 s with the lock floor off): 0.744 m vs the "
                    "twin's 0.050 m (0.183 m with the lock floor off) - not fixed")
 def test_fa9_no_worse_than_no_compensation(fa9):
     assert fa9["on"].metrics[METRIC] <= fa9["off"].metrics[METRIC]
 
 
-# --- H8 (session h): the floor's premise (``braking_lock_premise_flag``, findings_F.md RH2 (c)) -------------------
+# --- H8 (session h): the floor's premise (``braking_lock_premise_flag``, tire_blowout_findings.md RH2 (c)) -------------------
 HOLD_OFF = "vehicle.blowout_compensation.blown_front_hold_flag=0"
 FLOOR_OFF = "vehicle.blowout_compensation.braking_lock_floor_flag=0"
 PREMISE_DEFECT = "vehicle.blowout_compensation.braking_lock_premise_flag=0"

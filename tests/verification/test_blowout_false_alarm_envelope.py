@@ -2,7 +2,7 @@
 lane; data/envelopes/tire_blowout_false_alarm.toml). References: the overrides written out by hand from the
 envelope file and the base scenario, and the lane bound 0.978 m = (3.75 m lane, JTG B01-2014 - 1.794 m BJ2500
 width)/2 (data/requirements/tire_blowout.toml stay_in_lane, the shipped false-alarm check's bound). The known
-breach is review RG2's grid point k=664 (findings_F.md 'RG2 (session g)', /tmp/rg2/ftp2.py): FR named, 120 km/h,
+breach is review RG2's grid point k=664 (tire_blowout_findings.md 'RG2 (session g)', /tmp/rg2/ftp2.py): FR named, 120 km/h,
 mu 0.55, left curve 1000 m, steering held, 300 N pedal from 0.5 s in 0.05 s; RG2 measured 1.483 m with the
 compensation vs 0.401 m without."""
 from __future__ import annotations
@@ -76,7 +76,7 @@ def test_false_alarm_keeps_the_car_in_its_lane_at_rg2_breach(rg2_point):
 
 # --- H2 (session h): the GMA started on the compensating front by the rejected front's re-apply -------------------
 # CMA-ES seed 2026 (reproduce 004's fifth campaign, --keep-going) #25, the point as the search wrote it
-# (/tmp/h2/b_fc2026/falsify.json; findings_F.md 'H2 (session h)'): FR named, 107.2 km/h, mu 0.527, 650 m left curve,
+# (/tmp/h2/b_fc2026/falsify.json; tire_blowout_findings.md 'H2 (session h)'): FR named, 107.2 km/h, mu 0.527, 650 m left curve,
 # steering held, pedal 0.25 (250 N) from 2.07 s at 2.53 /s. At main 4718b3b the compensated car left the lane
 # (2.131 m) while the same false alarm without the function stayed inside (0.346 m).
 CMA25 = {"speed": 107.1759783711669, "mu": 0.5273353045859637, "brake.start_s": 2.067207842978096,

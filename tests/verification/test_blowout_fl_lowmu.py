@@ -1,5 +1,5 @@
 """I2's targeted FL search in low-friction curves with a braking driver (session 2026-11-24 i, task I10;
-findings_F.md "I2 (session i)" and "I10 (session i)", tire_blowout.md status h, "Session i, I10").
+tire_blowout_findings.md "I2 (session i)" and "I10 (session i)", tire_blowout_sessions.md status h, "Session i, I10").
 
 I2 ran ``falsify tire_blowout -r tire_blowout.no_worse_than_no_compensation --optimizer random --seed 61|83 -n 96
 -R wheel=fl -R curve=r650,r1000 -R braking=brakes -R mu=0.3..0.5`` at main cc64ff5 + I2's rule and found five
@@ -21,7 +21,7 @@ are fixed, three stay and one appears (83 #27); by mechanism:
   5.080 vs 4.788 m. Strict xfail.
 * C - 61 #22 (FL 106 km/h, mu 0.49, 650 m curve toward FL, pedal after the detection): G2's blown-inner-front hold
   (``blown_front_hold_flag``) cycles the flat FL between released (~1 bar) and re-applied (15-37 bar) ten times as the
-  yaw crosses the steered reference (findings_F.md I3); the car drifts out 2.156 vs 1.727 m. With the hold off the
+  yaw crosses the steered reference (tire_blowout_findings.md I3); the car drifts out 2.156 vs 1.727 m. With the hold off the
   paper's release gives 0.555 m (I3's relay, ``blown_front_hold_band_flag`` 1: 1.979). Strict xfail + attribution.
 * D (status h item 8, the ABS hold without a time limit; B shares it) - 61 #45 (FL 51 km/h, mu 0.32, 1000 m
   curve: steered yaw 0.8 deg/s, inside the 1 deg/s dead band, so treated as a
@@ -153,7 +153,7 @@ def test_named_window_gma_on_intact_front(run, sets, gma):
     assert (n_held > n_win // 4) == gma, (n_win, n_held)
 
 
-@pytest.mark.xfail(strict=True, reason="B/C/D (findings_F.md I10): 61 #8 7.955 vs 5.354 m (both spin), #22 2.156 vs "
+@pytest.mark.xfail(strict=True, reason="B/C/D (tire_blowout_findings.md I10): 61 #8 7.955 vs 5.354 m (both spin), #22 2.156 vs "
                                        "1.727 m (blown inner front hold/release cycling), #45 0.493 vs 0.470 m "
                                        "(release with FR in a 3-s ABS hold), 83 #27 0.461 vs 0.402 m (FR in a "
                                        "2.5-s ABS hold)")
@@ -213,7 +213,7 @@ def test_45_mirror_of_the_twin_with_fr_abs_hold(run):
 @pytest.mark.parametrize("name", ["s61_45"])
 def test_abs_hold_limit_on_both_cars(run, name):
     """D, attribution: with I5's ABS hold time limit on both cars (platform ESP; the twin changes too) #45 is no
-    violation (0.432 vs 0.483 m). Not shipped: I5's measurements (findings_F.md I5)."""
+    violation (0.432 vs 0.483 m). Not shipped: I5's measurements (tire_blowout_findings.md I5)."""
     on = _dev(run(name, sets=ABS_HOLD_LIMIT))
     none = _dev(run(name, baseline=True, sets=ABS_HOLD_LIMIT))
     assert on <= none, f"{on:.3f} m vs none {none:.3f} m"
@@ -281,6 +281,6 @@ def test_comp_hold_limit_leaves_the_twin(run, name):
 @pytest.mark.xfail(strict=True, reason="candidate comp_hold_limit: NEW violation 83 #9 0.407 vs none 0.290 m (0.263 at "
                                        "0): FR out of its hold at 5-8 % slip, the yaw 0.7-1.0 deg/s vs the twin's ~2.2")
 def test_comp_hold_limit_83_9(run):
-    """Why the candidate is shipped 0: it moves a violation to 83 #9 (findings_F.md I10)."""
+    """Why the candidate is shipped 0: it moves a violation to 83 #9 (tire_blowout_findings.md I10)."""
     on, none = _dev(run("s83_9", sets=COMP_HOLD)), _dev(run("s83_9", baseline=True))
     assert on <= none, f"{on:.3f} m vs none {none:.3f} m"

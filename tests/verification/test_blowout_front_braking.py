@@ -1,4 +1,4 @@
-"""Front-left blowouts on a wet curve with a braking driver (issue #10; docs/functions/tire_blowout.md, "Open at the end
+"""Front-left blowouts on a wet curve with a braking driver (issue #10; docs/functions/tire_blowout_sessions.md, "Open at the end
 of session 2026-11-23 d" item 2): the falsifier's counterexamples #15/#16 of tire_blowout.no_worse_than_no_compensation
 (random seed 7, budget 32, --keep-going, over data/envelopes/tire_blowout.toml; findings F round 7 and F6).
 
@@ -73,7 +73,7 @@ def test_knife_edge_point_no_worse(p16):
     (12.5 bar; mu_meas 0.213 on a 0.319 road, lateral share 825 N) while the uncompensated twin's front carried 31 bar
     under ABS: ~2 vs 4.4 m/s^2, 0.312 vs 0.225 m. The measured friction is the pure-longitudinal Dugoff inversion on a
     wheel that carries its lateral share (combined slip), i.e. already the friction left for F_x next to F_y; the cap
-    is that measured longitudinal capacity (front_circle_measured_flag; findings_F.md X2). History: braking rule 0.96 ->
+    is that measured longitudinal capacity (front_circle_measured_flag; tire_blowout_findings.md X2). History: braking rule 0.96 ->
     0.54 m, rear circle 0.47 m, understeer rule 0.312 m."""
     assert p16["on"] <= p16["off"]
 
@@ -136,7 +136,7 @@ def p43(env):
 def test_curve_braking_point_no_worse(p43):
     """#24 of random seed 43: the rear pair capped at its friction circle (with its lateral share, measured friction)
     keeps the driver's braking on the intact rear axle; the car slows and stays nearer the lane than without
-    compensation (0.65 vs 0.84 m). Knife edge in the noise seed (findings_F.md Q3): seeds 1-6 give
+    compensation (0.65 vs 0.84 m). Knife edge in the noise seed (tire_blowout_findings.md Q3): seeds 1-6 give
     -0.08..+0.35 m margins, the defect -0.32..+0.11 m; this is the falsifier's own point."""
     assert p43["on"] <= p43["off"]
 

@@ -1,5 +1,5 @@
-"""Front blowouts at 90-120 km/h in 650 m curves (docs/functions/tire_blowout.md, status at the end of session g, item 7;
-findings_F.md RG2 (d) and H6): RG2's targeted falsifier search ``-R wheel=fl,fr -R speed=90..120`` (random, budget 128).
+"""Front blowouts at 90-120 km/h in 650 m curves (docs/functions/tire_blowout_sessions.md, status at the end of session g, item 7;
+tire_blowout_findings.md RG2 (d) and H6): RG2's targeted falsifier search ``-R wheel=fl,fr -R speed=90..120`` (random, budget 128).
 
 Two of its four counterexamples are one mechanism: a blown INNER front (FL in the 650 m left curve), no pedal, the
 lane-following driver. The paper's balance brakes the OUTER front (FR 42-49 bar at 6-7 % slip); the car yaws 0.04-0.09
@@ -26,7 +26,7 @@ from vehicle_assist.verification.envelope import load_envelope
 
 METRIC = "blowout_lateral_deviation_run_max_m"
 DEFECT = "vehicle.blowout_compensation.understeer_persist_flag=0"
-# RG2's targeted search (findings_F.md RG2 (d)), random seed 19 budget 128 #66: FL 116.7 km/h, mu scale 0.424, 650 m left
+# RG2's targeted search (tire_blowout_findings.md RG2 (d)), random seed 19 budget 128 #66: FL 116.7 km/h, mu scale 0.424, 650 m left
 # curve, lane-following driver, no pedal, detection delay 0.44 s, pads 24 % below nominal
 P19_66 = {"speed": 116.66458342072876, "mu": 0.4244687855430994, "delay": 0.44253677268711084,
           "wheel_speed_noise": 0.148882156747999, "noise_seed": 4425.0, "brake_gain": 0.7583798176316293,
@@ -39,7 +39,7 @@ P71_49 = {"speed": 108.55088517007218, "mu": 0.45147850039247617, "delay": 0.086
           "brake.rate_per_s": 25.110979378421447, "braking": "none", "wheel": "fl", "driver": "follow", "curve": "r650"}
 # neighbours (not searched for: one parameter moved each; measured with / flag 0 / none): #66 at 119.7 km/h 0.605 / 1.894 /
 # 1.064 m; #49 at mu scale 0.421 0.633 / 1.610 / 1.178 m (of 16 neighbours - noise seed, speed +-3 km/h, mu +-0.03,
-# delay +0.1 s, pad gain +0.15 - 12 violate with the flag at 0, none with it; findings_F.md H6)
+# delay +0.1 s, pad gain +0.15 - 12 violate with the flag at 0, none with it; tire_blowout_findings.md H6)
 POINTS = {"19_66": P19_66, "71_49": P71_49, "19_66_v+3": {**P19_66, "speed": P19_66["speed"] + 3.0},
           "71_49_mu-0.03": {**P71_49, "mu": P71_49["mu"] - 0.03}}
 

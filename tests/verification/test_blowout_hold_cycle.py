@@ -1,5 +1,5 @@
-"""The blown inner front's hold/release limit cycle (docs/functions/tire_blowout.md "Status at the end of session
-2026-11-24 h" items 1, 3, 7; findings_F.md G2, H8, RH2, I3).
+"""The blown inner front's hold/release limit cycle (docs/functions/tire_blowout_sessions.md "Status at the end of session
+2026-11-24 h" items 1, 3, 7; tire_blowout_findings.md G2, H8, RH2, I3).
 
 ``blown_front_hold`` (functions/blowout_compensation.py) holds the blown INNER front of a braked curve toward it
 (Q_HOLD: the driver's/ABS pressure) while the yaw rate is at or below the steered reference, and releases it (dump to
@@ -123,7 +123,7 @@ def test_better_than_the_code_before(runs, name):
     assert r["on"].metrics[METRIC] < r["off"].metrics[METRIC] - 0.05
 
 
-@pytest.mark.xfail(strict=True, reason="findings_F.md I3: #161 with the rule 0.864 m vs none 0.839 m - the real blowout "
+@pytest.mark.xfail(strict=True, reason="tire_blowout_findings.md I3: #161 with the rule 0.864 m vs none 0.839 m - the real blowout "
                    "is still rejected yaw_implausible (1.87 s) while the low-mu car understeers 2-4 deg/s below the "
                    "reference as its twin does; not fixed")
 def test_161_no_worse_than_no_compensation(runs):

@@ -1,5 +1,5 @@
-"""Front blowout on the INSIDE of a low-friction curve, no pedal (docs/functions/tire_blowout.md "Open at the end of
-session 2026-11-24 e" item 1; findings_F.md R3 and X): the blown inner front's drag turns the car into the curve, the
+"""Front blowout on the INSIDE of a low-friction curve, no pedal (docs/functions/tire_blowout_sessions.md "Open at the end of
+session 2026-11-24 e" item 1; tire_blowout_findings.md R3 and X): the blown inner front's drag turns the car into the curve, the
 paper's feed-forward balance brakes the OUTER front, which carries most of the front axle's lateral force, and the car
 understeers out of the curve. The understeer rule (``understeer_flag``, functions/blowout_compensation.py
 ``understeer_rule``) lowers the compensating outer front while the measured yaw rate falls short of the steering

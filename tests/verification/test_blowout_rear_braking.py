@@ -1,4 +1,4 @@
-"""Rear blowout, late detection, and a driver who brakes after it (issue #10; falsification F2 class A, findings_F.md:
+"""Rear blowout, late detection, and a driver who brakes after it (issue #10; falsification F2 class A, tire_blowout_findings.md:
 CMA-ES seed 2026 budget 64 of the tire_blowout envelope, its two worst points #46 and #45). The rear slip limit
 (blowout_compensation, ``slip_limit_flag``) dumped the late detection's build overshoot and lowered the compensating
 wheel's target to its pressure at detection - 0 bar, the pedal came ~0.2 s later - and then released every later

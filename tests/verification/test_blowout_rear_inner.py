@@ -1,5 +1,5 @@
 """The real rear-blowout never-worse points left at main cc64ff5 (session 2026-11-24 i, task I6; tire_blowout.md
-"Status at the end of session 2026-11-24 h" item 1, findings_F.md "I6 (session i)").
+"Status at the end of session 2026-11-24 h" item 1, tire_blowout_findings.md "I6 (session i)").
 
 * lead's random 13 -n 64 #25 (RL 117 km/h mu 0.33, 650 m curve toward the blown wheel, steering held, pedal 0.19 from
   0.86 s, TPMS path 0.47 s): the braking car is at the friction limit when the INNER rear blows. Without the function
@@ -60,7 +60,7 @@ def _mean(r, ch, t0, t1):
 
 @pytest.mark.xfail(strict=True, reason="rb13 #25: the paper's release of the braked flat INNER rear removes the turn-in "
                    "moment the understeering braking car had (the twin keeps it): 1.462 m vs none 1.220 m; candidates "
-                   "measured in findings_F.md 'I6 (session i)' (none landed)")
+                   "measured in tire_blowout_findings.md 'I6 (session i)' (none landed)")
 def test_25_never_worse_than_without_compensation(runs25):
     assert runs25["on"].metrics[METRIC] <= runs25["none"].metrics[METRIC]
 

@@ -1,6 +1,6 @@
 """The yaw-plausibility rejection of a REAL front blowout while braking, past the opposite wheel's linear region
 (``release_bound_flag``, functions/blowout_compensation.py ``released_moment_bound_nm``; session 2026-11-24 f, task Y2,
-findings_F.md Y/Y2).
+tire_blowout_findings.md Y/Y2).
 
 Falsifier random 61 b128 #101 (envelope data/envelopes/tire_blowout.toml): FL blown at 110 km/h on mu 0.58, straight,
 steering held, the driver braking from t_b - 0.15 s. The TPMS-path detection releases FL; FR at the driver's pressure runs

@@ -1,5 +1,5 @@
 """Understeer rule, a lowering made on the persistence evidence alone (``understeer_persist_flag``, session h H6) and
-its restore (``understeer_restore_settled_flag``; review RH2, findings_F.md "RH2 (session h)").
+its restore (``understeer_restore_settled_flag``; review RH2, tire_blowout_findings.md "RH2 (session h)").
 
 Shipped blowout_lf_80kph_curve: FL blown at 80 km/h in a 500 m left curve, the driver holds the wheel at the curve's
 steady-state angle for the entry speed. H6's rule lowers the outer front FR 49 -> 29 bar at 2.0 s (the yaw short of the

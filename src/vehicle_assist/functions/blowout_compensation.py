@@ -63,7 +63,7 @@ release is netted with its friction-circle lower bound (``released_moment_bound_
 saturated tire carries mu*F_z and mu >= |a_x|/g), except while the steered reference yaw points toward the blown side
 (a curve toward it: a saturated front's understeer reads as yaw away, the raw yaw decides); random 61 b128 #101, FL
 110 km/h mu 0.58 straight, pedal from t_b - 0.15 s: rejected at t_b + 0.85 s, 4.34 m -> not rejected, 1.99 m (none 8.51).
-BUILD/HOLD/LIMITED -> REJECTED (signature_unconfirmed; ``tpms_confirm_flag``, 0 = seeded defect; findings_F.md P,
+BUILD/HOLD/LIMITED -> REJECTED (signature_unconfirmed; ``tpms_confirm_flag``, 0 = seeded defect; tire_blowout_findings.md P,
 session 2026-11-24 e): a TPMS-path detection (TPMS only, driver braking) is confirmed by the released wheel - a flat wheel
 freed of the brake spins up toward its free-rolling speed ~50 % above the car's, a healthy one rolls at the car's speed.
 Its filtered speed within ``wheel_speed_threshold_frac`` of v_ref with its filtered acceleration below a_x +
@@ -118,7 +118,7 @@ at the yaw swing-back and re-spun the car (RL 120 km/h 650 m, mu scale 0.3, held
 exit); the settling time without the heading condition: 1.95 m there, spin points 7.81 / 7.80 m (7.17 / 6.78 without
 an exit). RL 120 km/h 650 m points (open item 5): 1.39 / 1.85 / 1.74 m -> 0.66 / 0.98 / 1.71 m (none 6.33 / 6.93 /
 15.27 m); with the ramp 0.66 / 1.31 / 1.73 m. The rear balance after the exit is still planned at the nominal mu 0.8
-(findings_F.md Z, Z2). The ramp runs only in BUILD/HOLD (``ramp_refused_flag``, 0 = seeded defect = on in REFUSED/ENDED
+(tire_blowout_findings.md Z, Z2). The ramp runs only in BUILD/HOLD (``ramp_refused_flag``, 0 = seeded defect = on in REFUSED/ENDED
 too): a refusal after the exit (beyond the bounds rotating away from the blown side) releases the front at once; and
 never below the driver's master pressure (``ramp_driver_floor_flag``, 0 = seeded defect = down to 0 under a braking
 driver: FR 2.3 bar vs FL 25 bar, random 29 #37 2.020 m vs 1.374 m without the exit; floored 1.355 m).
@@ -169,7 +169,7 @@ with its lateral share at the measured friction (``rear_circle_flag``; 0 = seede
 in an oversteer toward the blown side (outside the sideslip phase-plane region, Inagaki 1994, the slide of the spin
 toward the blown side) the pair is held and lowered 1 bar per period, also before any measured friction
 (``rear_oversteer_flag``, ``rear_oversteer_cap``; 0 = seeded defect = no rear cap without a measured friction).
-Understeer rule (``understeer_flag``, 0 = seeded defect = the code before; ``understeer_rule``; findings_F.md R3/X): a
+Understeer rule (``understeer_flag``, 0 = seeded defect = the code before; ``understeer_rule``; tire_blowout_findings.md R3/X): a
 FRONT blowout compensated on the other front wheel, driver not braking, the capacity rule having measured a friction
 below the nominal on that wheel, the steering reference (``reference_yaw_rate``) toward the blown side (the blown wheel
 is on the inside of the steered turn) and the measured yaw rate short of it by more than the dead band: the car
@@ -524,7 +524,7 @@ def dump_window_reading(st, i, p_now, dt):
     estimates at its two ends: under one valve state a wheel's pressure moves monotonically toward its source (filling /
     emptying through an orifice), so over the interval it is at least the lower end - and the estimate steps to the
     source pressure at once when the wheel goes back to W_N (functions/esp.py ``_estimate``) while the wheel still lags
-    (findings_F.md I1: a dump 5 ms after such a step, 167.8 bar estimated vs 53.6 bar in the wheel). The wheel's spin balance J*omega_dot = F_x*R - T_b holds in
+    (tire_blowout_findings.md I1: a dump 5 ms after such a step, 167.8 bar estimated vs 53.6 bar in the wheel). The wheel's spin balance J*omega_dot = F_x*R - T_b holds in
     every interval, so with the same weights sum w_q*F_x,q*R = K_b*g*p_w - J*a_w/R: a weighted mean of the road force,
     and F_x <= mu*F_z at every instant makes it a lower bound of mu*F_z (tire_blowout.md 2.3) whatever the wheel did
     inside the window. Noise: white speed noise sigma_v per sample gives the slope the standard error
@@ -1541,7 +1541,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         # wheel-speed signature, S_HEALTHY_S = -1): until then the named wheel is released - the release is what lets
         # a flat wheel show its over-speed - but the compensating wheel gets no added pressure (Q_NONE: the driver's
         # pressure and ABS, as without the function). A false alarm's build was the unbalanced moment that kicked the
-        # yaw before the rejection (findings_F.md H2); confirmed, the build starts (as from HOLD: to S_P_REQ / S_P_BRAKE)
+        # yaw before the rejection (tire_blowout_findings.md H2); confirmed, the build starts (as from HOLD: to S_P_REQ / S_P_BRAKE)
         requests[tg] = Q_NONE
     if (p.blowout_compensation_tpms_symmetric_release_flag > 0.5 and b >= 0 and st[S_HEALTHY_S] > -0.5
             and (mode == BUILD or mode == HOLD or mode == LIMITED)):
@@ -1564,7 +1564,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p):
     """The blown FRONT wheel, the inner front of a turn steered toward it, is held at its present (ABS) pressure instead
-    of released (``blown_front_hold_flag``, 0 = seeded defect = always released; findings_F.md X2, lead random 41 b512
+    of released (``blown_front_hold_flag``, 0 = seeded defect = always released; tire_blowout_findings.md X2, lead random 41 b512
     #273) while: the driver brakes; the compensation runs on the other front (BUILD/HOLD/LIMITED); that front is at
     its ABS limit (ABS active on it - a hold or dump in the last 0.3 s, spec 4.3, S_ABS_ACTIVE from functions/esp.py;
     with ``braking_lock_keep_flag`` also a lock level ABS found on it and still kept, S_LOCK_P of braking_lock_floor);
@@ -1603,7 +1603,7 @@ def blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p):
                                             and st[S_LOCK_P] > 0.0):
         # (braking_lock_keep_flag, 0 = seeded defect = ABS activity only) a compensating front whose lock level ABS
         # found is kept (S_LOCK_P, braking_lock_floor: held at or below the floor) is at its limit: the braking rule's
-        # floor holds it below that level, and that is why ABS is quiet on it (findings_F.md H8: false FL alarm, FR
+        # floor holds it below that level, and that is why ABS is quiet on it (tire_blowout_findings.md H8: false FL alarm, FR
         # held at 0.8 x lock, ABS quiet 0.3 s later, the healthy FL let go three times: 0.856 m, 0.744 m with the rule)
         return
     if toward_blown_side(b, r_ref) <= p.blowout_compensation_yaw_deadband_radps:
@@ -1618,7 +1618,7 @@ def blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p):
         # inside it). Switched at 0, the wheel's two states - released (dumped to ~1 bar in ~0.1 s) and held (re-applied
         # by the driver/ABS) - alternated on every swing of the yaw mode around the reference; a +0.07..+0.41 deg/s
         # swing released the ABS-held flat front 14.8 -> 1.2 bar and the yaw went 1-2 deg/s below the reference
-        # (findings_F.md I3: lead c2026 b200 #161). Symmetric, so the cycle stays centred on the reference (a band only
+        # (tire_blowout_findings.md I3: lead c2026 b200 #161). Symmetric, so the cycle stays centred on the reference (a band only
         # above it shifted the yaw toward the blown side: r41 #328 0.868 -> 1.110 m)
         if toward > p.blowout_compensation_yaw_deadband_radps:
             st[S_FH_RELEASED] = 1.0
@@ -1634,7 +1634,7 @@ def blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p):
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, requests, p, dt=0.005, v_ref=0.0):
     """Blown FRONT wheel on the inside of the turn the driver steers, the car understeering (``understeer_flag``, 0 =
-    seeded defect = the code before; findings_F.md R3 and X, tire_blowout.md open item 1). Acts in HOLD on the other
+    seeded defect = the code before; tire_blowout_findings.md R3 and X, tire_blowout.md open item 1). Acts in HOLD on the other
     front wheel, while the driver does not brake, once the tire-capacity rule has measured a friction below the nominal
     on that wheel (S_CAP_LATCHED: a saturating front axle), when the steering reference (``reference_yaw_rate``) points
     toward the blown side by more than the dead band (yaw_deadband_deg_per_s) and the measured yaw rate falls short of
@@ -1662,7 +1662,7 @@ def understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, reque
     (none 6.63); its checks unchanged. ``understeer_restore_settled_flag`` (0 = seeded defect = restored only beyond the
     dead band): that restore's evidence is the yaw above the reference without the dead band for the settling time -
     inside the dead band lf80's lowering was held while the car turned 0.02 rad/s more than the lane (1.009 m at
-    standstill, out of the lane; with it 0.153 m, run max 0.059 m; findings_F.md RH2)."""
+    standstill, out of the lane; with it 0.153 m, run max 0.059 m; tire_blowout_findings.md RH2)."""
     if b < 0 or b >= 2 or tg != OPPOSITE[b] or mode != HOLD or braking > 0.5:
         st[S_US_SHORT_S] = 0.0  # (understeer_persist_flag) the shortfall is timed in HOLD without the pedal only
         st[S_US_OVER_S] = 0.0
@@ -1695,7 +1695,7 @@ def understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, reque
             # reference's curvature delta/(l*(1 + K*u^2)) rises above the lane's 1/R as the car slows (understeer
             # gradient K > 0), and at 0.012-0.018 rad/s above the reference (db 0.0175) the car turned 0.02 rad/s
             # more than the lane for 2 s (shipped blowout_lf_80kph_curve run to standstill: 1.009 m, out of the
-            # lane, vs 0.606 m before understeer_persist_flag; findings_F.md RH2)
+            # lane, vs 0.606 m before understeer_persist_flag; tire_blowout_findings.md RH2)
             over_db = 0.0
         st[S_US_OVER_S] = st[S_US_OVER_S] + dt if err_in > over_db else 0.0
         if st[S_US_SHORT_S] >= t_s - 1e-9:
@@ -1813,7 +1813,7 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
                 or p.blowout_compensation_braking_lock_premise_flag < 0.5):
             # a curve toward the blown side: its inner front held, not released (blown_front_hold); (braking_lock_
             # premise_flag, 0 = seeded defect = whatever blown_front_hold_flag) without that hold the blown front is
-            # released as the paper does and the balance's premise stands (findings_F.md RH2 (c), H8)
+            # released as the paper does and the balance's premise stands (tire_blowout_findings.md RH2 (c), H8)
             p_floor = p_lock
     if toward < -p.blowout_compensation_yaw_deadband_radps:
         st[S_P_BRAKE] = p_floor
@@ -1840,7 +1840,7 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
                 # (rear_accel_circle_flag, 0 = seeded defect = no cap) a curve toward the blown side (the blown front
                 # is the INNER one): the flat's diagonal load transfer unloads the OUTER rear, which carries the larger
                 # share of the rear lateral force, and under the select-low pair it is the wheel ABS runs at its lock
-                # slip (findings_F.md I2: RR 10-18 % slip, 0.1-0.17 kN lateral vs 0.36-0.6 kN capped). Cap the pair at
+                # slip (tire_blowout_findings.md I2: RR 10-18 % slip, 0.1-0.17 kN lateral vs 0.36-0.6 kN capped). Cap the pair at
                 # the rears' friction circle (Kamm) at the friction the car's measured acceleration proves,
                 # mu >= |a|/g = sqrt(a_x^2 + a_y^2)/g (|sum F_i| = m*|a| <= sum mu*F_z,i = mu*m*g), which rises with
                 # the stop - not at the front wheel's lower bound alone. With the blown front OUTSIDE the turn the
@@ -1883,7 +1883,7 @@ def braking_lock_floor(st, tg, p_bal, p_est, p):
     re-built the wheel after every dump up to the lock level and beyond (the ESP's S_P_PREDUMP ceiling, when it is set at
     all, IS the lock level), so the outer front sat at its lock: slip 5.5-15 % against the twin's 3.4-7.7 %, its
     lateral force up to 40 % lower, and the car yawed away from the blown side beyond the dead band on the
-    compensation's own moment (findings_F.md G8/H3: lead's CMA-ES 2026 -n 200 cluster, FL, r650 toward FL, mu
+    compensation's own moment (tire_blowout_findings.md G8/H3: lead's CMA-ES 2026 -n 200 cluster, FL, r650 toward FL, mu
     0.30-0.35). ABS practice is to re-apply after a dump to a fraction of the pressure at which the wheel locked and to
     increase it gradually from there (GM, Leppek, EP 0 380 882: re-apply to "a significant fraction" of that pressure;
     the fraction is braking_lock_floor_frac, assumed); here the
@@ -1891,15 +1891,15 @@ def braking_lock_floor(st, tg, p_bal, p_est, p):
     it is only not re-built) until ABS is quiet on it (no hold or dump for 0.3 s, S_ABS_ACTIVE, spec 4.3): the lock level
     is then forgotten and the floor is the balance again, as ABS forgets it (functions/esp.py build_idle) - with
     ``braking_lock_keep_flag`` (0 = seeded defect = that) only once the wheel is also above the floor + 1 bar (held at
-    or below it, the floor is what keeps ABS quiet; findings_F.md H8), and always when braking_rule stops. A dump is
+    or below it, the floor is what keeps ABS quiet; tire_blowout_findings.md H8), and always when braking_rule stops. A dump is
     the ECU's pressure estimate falling by more than 1 bar in one period from at most the balance + 1 bar (the rule
     itself lowers a wheel only from above the balance, functions/esp.py); its start is the level. Only while the yaw
     points away from the blown side (the counter-moment already exceeds the drag): toward it the balance stands (a
-    low, noise-made ceiling there spun the car, findings_F.md Q4 / predump_slip_flag). And only in a turn steered
+    low, noise-made ceiling there spun the car, tire_blowout_findings.md Q4 / predump_slip_flag). And only in a turn steered
     toward the blown side (steered reference toward it beyond the dead band, the caller): there the blown INNER front is
     held at the driver's/ABS level (blown_front_hold), so the balance's premise, a released blown front that only drags,
     does not hold; on a straight road or with the blown wheel on the outside the paper's release stands and so does its
-    balance (measured, findings_F.md H3: the floor everywhere made 18 of 245 braking front points of session g's
+    balance (measured, tire_blowout_findings.md H3: the floor everywhere made 18 of 245 braking front points of session g's
     searches worse by 0.05-0.40 m, 15 of them straight-road or outer-front points, none a violation; restricted: 3)."""
     p_now = p_est[tg]
     p_prev = st[S_LOCK_PREV]
@@ -1918,7 +1918,7 @@ def braking_lock_floor(st, tg, p_bal, p_est, p):
     # ABS is quiet AND the wheel is held at or below the floor (held): there the floor is what keeps ABS quiet - a
     # quiet ABS is no evidence that the wheel carries more; a wheel quiet above the floor (re-built by the yaw gate's
     # branches) does carry more and the level goes (kept whatever the pressure: shipped check #273 of
-    # test_blowout_blown_front_hold 0.567 -> 0.598 m vs none 0.594, findings_F.md H8)
+    # test_blowout_blown_front_hold 0.567 -> 0.598 m vs none 0.594, tire_blowout_findings.md H8)
     st[S_LOCK_PREV] = p_now
     if st[S_LOCK_P] > 0.0:
         return min(p_bal, p.blowout_compensation_braking_lock_floor_frac * st[S_LOCK_P])
@@ -1938,7 +1938,7 @@ def rear_braking_rule(st, b, tg, mode, braking, p_mc, p_est, p):
     ABS re-build does on a wheel without the function. Before, the re-build of a compensating wheel stopped at the plan
     (functions/esp.py, meant for a wheel the driver does not brake): with a plan of 0 (the blowout moment already pointed
     away from the blown side) each dump lowered the wheel for good and a braking driver's rear axle was emptied step by
-    step (findings_F.md G4: R2's targeted random 29 #38, RR 112 km/h mu 0.343 r650, lane follower, HBA, 0.28 rad/s
+    step (tire_blowout_findings.md G4: R2's targeted random 29 #38, RR 112 km/h mu 0.343 r650, lane follower, HBA, 0.28 rad/s
     wheel-speed noise: the compensating RL 47.6 -> 1.4 bar in 1.8 s at 0.2-2 % slip while the twin's rear pair carried
     22-27 bar; the car braked less and ran wide, 4.45 m vs 4.25 m without compensation; now 2.32 m).
     Tried and dropped (session g): the front braking rule's yaw feedback on the driver's share (down to the balance while
@@ -1973,7 +1973,7 @@ def rear_oversteer_cap(st, b, yaw_rate, p_est, p, r_ref=0.0, mode=-1):
     marks the detection confirmed (``blowout_step`` no longer rejects it as yaw-implausible: a released healthy wheel
     with the opposite front braked yaws the car away, never toward it). R1's random 3 b64 #58 (FL 93 km/h mu 0.60 r650,
     HBA): the rears were re-built 30 -> 56 bar while the car yawed 0.1-0.27 rad/s toward FL (reference 0.04): 1.270 ->
-    0.889 m (none 0.357; what remains was built before the detection, findings_F.md G6)."""
+    0.889 m (none 0.357; what remains was built before the detection, tire_blowout_findings.md G6)."""
     yaw_os = (p.blowout_compensation_rear_oversteer_yaw_flag > 0.5
               and toward_blown_side(b, yaw_rate) > p.blowout_compensation_yaw_deadband_radps
               and toward_blown_side(b, yaw_rate + r_ref) > 0.0 and mode != BUILD)
@@ -2016,7 +2016,7 @@ def accel_friction_lower_bound(a_x, a_y, v_ref, fz_blown_n, p):
     sqrt(max(X - mu*Z, 0)^2 + Y^2) = mu*G (Z = F'_z upper bound: the ECU's nominal load of that wheel at the measured
     a_x, without the flat's unloading, eqs. 3-4; G = m*g):
     (G^2 - Z^2)*mu^2 + 2*X*Z*mu - (X^2 + Y^2) = 0, or Y/G when the drag at mu = Y/G already explains X. Before this
-    bound the rule took |a|/g, which contains both terms (findings_F.md RI2 (session i): 14-15 % above the road's peak
+    bound the rule took |a|/g, which contains both terms (tire_blowout_findings.md RI2 (session i): 14-15 % above the road's peak
     friction at the two curve points of tests/functions/test_blowout_rear_circle_cap.py, 0.12-0.13 g of rim drag and
     0.02-0.04 g of resistance). Not covered (no model of them in the plant; see the findings): accelerometer offset,
     body roll/pitch tilting the sensor (each adds g*sin(angle) to the reading), head wind."""
@@ -2151,7 +2151,7 @@ def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def measured_mu_raise(st, tg, v_ref, braking, p_est, gain, p, dt, a_x=0.0, a_y=0.0):
     """The braking rule's measured friction S_MU_MEAS raised by a linear reading (``measured_mu_raise_flag``, 0 =
-    seeded defect = only ever lowered; findings_F.md RG/G7, random 17 #36). S_MU_MEAS is the lowest capacity read while
+    seeded defect = only ever lowered; tire_blowout_findings.md RG/G7, random 17 #36). S_MU_MEAS is the lowest capacity read while
     the compensating front was out of its linear region before the pedal - a build overshoot and the ABS dump after it,
     where the filtered pressure and slip lag the wheel (random 17 #36: 0.284 at the overshoot, then 0.246/0.202/0.176 on
     the recovering wheel; the road's peak 0.453): the wheel's present force on a lagging slip, not its limit. The
@@ -2167,7 +2167,7 @@ def measured_mu_raise(st, tg, v_ref, braking, p_est, gain, p, dt, a_x=0.0, a_y=0
     linearly and stop where it leaves the linear region (Dugoff: linear up to F = mu*F_z/2, so the bound never
     exceeds the road's friction); never lowered here (the lowering stays the capacity rule's, without the pedal).
 
-    ``measured_mu_bound_flag`` (0 = seeded defect = the rule above; findings_F.md H1, docs item 10 (a)-(d)): that
+    ``measured_mu_bound_flag`` (0 = seeded defect = the rule above; tire_blowout_findings.md H1, docs item 10 (a)-(d)): that
     reading over-stated the friction wherever the plant differs from the ECU's data - the brake force taken at the cold
     band's lower edge (0.82) while fade reaches 0.66, q compared with the nominal C_x while C_x is known to
     +-longitudinal_stiffness_tolerance_frac, and the capacity over the plan-time load while the wheel is measured under
@@ -2214,7 +2214,7 @@ def measured_mu_raise(st, tg, v_ref, braking, p_est, gain, p, dt, a_x=0.0, a_y=0
                 # (abs_dump_noise_flag, 0 = seeded defect = the reading below) the same friction circle over the
                 # window before the dump (``dump_window_reading``: weighted mean force = a lower bound of mu*F_z),
                 # its deceleration taken DUMP_NOISE_SIGMAS of the design noise high: the 3-sample a_w below has
-                # sigma 15 m/s^2 at 0.3 rad/s (140 N, 7 % of the force per sigma; findings_F.md RH3: above the plant's
+                # sigma 15 m/s^2 at 0.3 rad/s (140 N, 7 % of the force per sigma; tire_blowout_findings.md RH3: above the plant's
                 # F_x in 40 % of noisy draws)
                 a_hi = st[S_AW_DUMPWIN] + DUMP_NOISE_SIGMAS * dump_window_decel_sigma_mps2(p, dt)
                 t_lo = p.blowout_compensation_brake_gain_fade_low_frac * gain * st[S_P_DUMPWIN]
@@ -2285,7 +2285,7 @@ def mu_raise_loads_n(st, tg, a_x, a_y, p):
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def front_spin_keep(b, tg, yaw_dev, p, yaw_meas, code, beta_est):
     """True = no refusal of a RUNNING compensation beyond the stable region (``front_spin_keep_flag``, 0 = seeded
-    defect = refused whatever the rotation; findings_F.md G5, braking 47 #69; called from the BUILD/HOLD/LIMITED ->
+    defect = refused whatever the rotation; tire_blowout_findings.md G5, braking 47 #69; called from the BUILD/HOLD/LIMITED ->
     REFUSED transition only): a FRONT blowout compensated on the other front wheel while the car's yaw rate exceeds the
     steering reference TOWARD the blown side (``yaw_dev`` = measured - ``reference_yaw_rate``: oversteer toward the
     flat). The compensation's moment then is the ESP's own answer to that rotation: the compensating front is the OUTER

@@ -37,7 +37,7 @@ Per period:
 6. The ECU's wheel-pressure estimate (its model of the unit, nominal data) tells TERMINATING when the
    wheels are back at the driver's pressure. In mode N it takes the source at once; ``pressure_estimate_line_flag``
    = 2 (shipped) keeps a line-lag estimate alongside (A_P_LINE) for the lock level stored at an ABS dump's start
-   (findings_F.md I9, I11); 1 = mode N through the line lag tau_line everywhere (candidate, not enabled).
+   (tire_blowout_findings.md I9, I11); 1 = mode N through the line lag tau_line everywhere (candidate, not enabled).
 """
 from __future__ import annotations
 
@@ -484,7 +484,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                           or int(bst[bc.S_MODE]) == bc.LIMITED))
         if p.esp_abs_hold_limit_flag > 0.5 or comp_hold:
             # (blowout_compensation.comp_hold_limit_flag, 0 = the code before) the hold limit also on the compensating
-            # FRONT while the compensation loads it (findings_F.md I10), not on the other wheels nor on the twin
+            # FRONT while the compensation loads it (tire_blowout_findings.md I10), not on the other wheels nor on the twin
             new, stepped = abs_hold_limit(wheels, i, new, slip, p, dt)
             if stepped:
                 reason = abs_fn.G_LOCK  # a held wheel that does not re-accelerate is heading for lock (abs_hold_limit)
@@ -557,7 +557,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     blk = int(ctl[C_GMA_BLOCK]) - 1
     # (gma_blown_front_flag) the blown front released by a compensation on the other front: its ABS hold/dump activity
     # is the flat tire's / the release's, not a split-mu road's - it does not start the GMA on the compensating wheel
-    # (the GMA held that wheel at ~10 bar against the braking rule's 65 bar, findings_F.md Q4)
+    # (the GMA held that wheel at ~10 bar against the braking rule's 65 bar, tire_blowout_findings.md Q4)
     blk_b = blown if (0 <= tgt < 2 and 0 <= blown < 2 and blown != tgt
                       and p.blowout_compensation_gma_blown_front_flag > 0.5) else -1
     # (gma_rejected_flag) after a FRONT detection is rejected, while the block of its compensating front is kept: the
@@ -600,7 +600,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     # A FRONT wheel only NAMED by the TPMS (excluded from the reference, not yet detected: the compensation IDLE, not
     # after a rejection) has a rolling radius the ECU does not know (spec tire_blowout.md 6: R_out -> R_in): its
     # nominal-radius speed overstates its periphery, the slip ABS reads on it is short by (R_out - R_eff)/R_eff
-    # (a flat FR at 22-32 % true slip read 0-3 %, findings_F.md H6 43 #30) - a wheel-speed signal known bad.
+    # (a flat FR at 22-32 % true slip read 0-3 %, tire_blowout_findings.md H6 43 #30) - a wheel-speed signal known bad.
     named_f = blown if (0 <= blown < 2 and int(bst[bc.S_BLOWN]) < 0 and int(bst[bc.S_MODE]) == bc.IDLE) else -1
     # (named_front_gma_flag) its ABS activity is no evidence of a split-mu road: it does not start the GMA on the other
     # front (as a known-blown front's does not: gma_blown_front_flag; ABS practice: a wheel whose speed signal is
@@ -625,7 +625,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     # reference (reference_yaw_rate of the measured steer angle and v_ref), not the raw yaw rate: a curve's own yaw is
     # what the driver asks for, not the split-mu brake-force difference's (H2: in a 650 m left curve at 107 km/h the
     # raw ~5 deg/s dumped FL 29.9 -> 15.8 bar and held it ~1 s against FR at 45.7 bar, turning the car out of the curve)
-    # Shipped 0 (the raw yaw rate): on the tire-blowout envelope it cost never-worse points (findings_F.md H7).
+    # Shipped 0 (the raw yaw rate): on the tire-blowout envelope it cost never-worse points (tire_blowout_findings.md H7).
     yaw_dev = meas.yaw_rate_radps
     if p.esp_gma_yaw_reference_flag > 0.5:
         yaw_dev = meas.yaw_rate_radps - bc.reference_yaw_rate(meas.steering_angle_rad, v_ref, p)
@@ -666,7 +666,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     # limitation must then bound a brake force ABS cannot bound. 0 = the code before (its brake bounded by ABS alone).
     # Shipped 0, a candidate NOT enabled: on the braking front points of session h's searches it fixes RG2 43 #30
     # (-3.308 -> +2.534 m) but adds two violations (braking 47 #1 +0.405 -> -4.719 m, a spin; random 41 #407 +0.030
-    # -> -2.014 m) - findings_F.md "I4 (session i)".
+    # -> -2.014 m) - tire_blowout_findings.md "I4 (session i)".
     if p.esp_named_front_yaw_flag > 0.5 and named_f >= 0 and abs_allowed:
         toward_n = (meas.yaw_rate_radps - bc.reference_yaw_rate(meas.steering_angle_rad, v_ref, p)) * (
             1.0 if named_f == 0 else -1.0)
@@ -776,7 +776,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # the compensation's arbitration governs the wheel, as before. Status item 4 (session h, H5): NOT enabled
             # (toml 0): it changes the named wheel's re-build source (master, not pump), not its level; on 1,053 pedal
             # evaluations of 15 searches net -0.44 m with equal violation counts, but it MOVES a violation (CMA-ES 2026
-            # #196 fixed / #176 new, a knife edge) - findings_F.md "H5 (session h)".
+            # #196 fixed / #176 new, a knife edge) - tire_blowout_findings.md "H5 (session h)".
             row = A_DRIVER
         req = int(wheels[i, A_REQUEST])
         if (row == A_DRIVER and i == gma_wheel and blown < 0 and p.esp_gma_follow_flag > 0.5

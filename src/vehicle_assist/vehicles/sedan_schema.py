@@ -124,32 +124,32 @@ class SedanEsp(Strict):
     gma_hba_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: HBA pumps past the GMA)
     gma_follow_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (GMA wheel capped below the pumped other front)
     # GMA yaw limitation on the deviation from the steered reference yaw rate (1); 0 = the code before (raw yaw rate),
-    # shipped 0: it cost never-worse points (findings_F.md H7)
+    # shipped 0: it cost never-worse points (tire_blowout_findings.md H7)
     gma_yaw_reference_flag: Annotated[int, Field(ge=0, le=1)] = 0
     hba_rear_select_low_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = old: rears pumped with their circuit's front
     # select-low also while a wheel is only TPMS-named (compensation idle); 0 = seeded defect (off for any excluded wheel)
     hba_rear_select_low_tpms_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # 1 = the TPMS-named wheel kept on the driver's pressure under HBA before the detection - a candidate NOT enabled
-    # (it moves a violation, findings_F.md H5); 0 = the code before (shipped)
+    # (it moves a violation, tire_blowout_findings.md H5); 0 = the code before (shipped)
     hba_named_driver_flag: Annotated[int, Field(ge=0, le=1)] = 0
     # a TPMS-named front (before the detection): its ABS activity does not start the GMA on the other front; 0 = the code
-    # before (findings_F.md I4)
+    # before (tire_blowout_findings.md I4)
     named_front_gma_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # 1 = a TPMS-named front's brake bounded by the GMA's yaw limitation on the steered reference - a candidate NOT
-    # enabled (it adds violations, findings_F.md I4); 0 = the code before (shipped)
+    # enabled (it adds violations, tire_blowout_findings.md I4); 0 = the code before (shipped)
     named_front_yaw_flag: Annotated[int, Field(ge=0, le=1)] = 0
     hba_master_rebuild_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: pump re-build undecided)
     hba_rampout_pumped_only_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: ramp-out unpumped)
     abs_signal_filter_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (#10 F2: raw-differenced wheel decel)
     # 1 = an ABS hold above L_HOLD whose window-mean slip keeps rising (no re-acceleration) ends in a dump step (Bosch
     # ABS cycle: stepwise reduction while the wheel does not re-accelerate; RH2: held 1.1 s at 12-18.5 % slip) - a
-    # candidate NOT enabled (6 blowout checks go red with it, findings_F.md I5); 0 = the code before (shipped)
+    # candidate NOT enabled (6 blowout checks go red with it, tire_blowout_findings.md I5); 0 = the code before (shipped)
     abs_hold_limit_flag: Annotated[int, Field(ge=0, le=1)] = 0
     abs_hold_window_s: Annotated[float, Field(gt=0, le=1)] = 0.1
     # 1 = the ECU's wheel-pressure estimate in mode N follows the source through the line lag tau_line (the unit's
     # own model, as its W_B/H/BPM branches) instead of taking the source at once (moves never-worse points, lengthens
     # HBA stops); 2 = that line estimate kept alongside (A_P_LINE) and read only for the lock level stored at an ABS
-    # dump's start (S_P_PREDUMP) - shipped (I11, session i); 1 is a candidate NOT enabled (findings_F.md I9, I11);
+    # dump's start (S_P_PREDUMP) - shipped (I11, session i); 1 is a candidate NOT enabled (tire_blowout_findings.md I9, I11);
     # 0 = seeded defect (the code before: the lock level read the source step, 167.8 bar vs 86.4 bar in the wheel)
     pressure_estimate_line_flag: Annotated[int, Field(ge=0, le=2)] = 2
     abs_hold_slip_rise_frac: Annotated[float, Field(ge=0, lt=1)] = 0.005
@@ -352,7 +352,7 @@ class SedanBlowoutCompensation(Strict):
     # abs_dump_bound_flag's reading robust to wheel-speed noise: the window's weighted-mean pressure and least-squares
     # deceleration at the dump's start (a weighted mean of the force, F_x <= mu*F_z at every instant; each interval's
     # pressure at the lower end estimate), the deceleration taken 3 sigma of the design noise high; 0 = seeded defect (the 3-sample a_w: sigma 15 m/s^2 at 0.3 rad/s, above
-    # the plant's F_x in 40 % of noisy draws, findings_F.md RH3)
+    # the plant's F_x in 40 % of noisy draws, tire_blowout_findings.md RH3)
     abs_dump_noise_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # assumed: design white wheel-speed noise per ESP sample [rad/s] = the envelope's upper end (tire_blowout envelope
     # wheel_speed_noise: ~0.23 rad/s from a 0.5 % tooth-pitch error, 0.3 with margin)
@@ -363,15 +363,15 @@ class SedanBlowoutCompensation(Strict):
     # blown_front_hold: the blown inner front let go once the yaw exceeds the steered reference toward it by more than
     # the closed-loop dead band and held again once it falls short of it by more than the band, the last decision kept
     # inside the band (relay with the dead band as its hysteresis); 0 = the code before (switched at the reference).
-    # Shipped 0: candidate (findings_F.md I3: new violations elsewhere)
+    # Shipped 0: candidate (tire_blowout_findings.md I3: new violations elsewhere)
     blown_front_hold_band_flag: Annotated[int, Field(ge=0, le=1)] = 0
     # a TPMS-path detection's confirmation release made yaw-neutral: while the released wheel's verdict is pending the
     # other wheel of the same axle is released with it (select-low on that axle), re-applied with it after a rejection,
     # and the compensation build waits for the confirmation. SHIPPED 0 (the code before): a candidate that fixes the
-    # false alarms but costs the real blowouts the counter-brake for the confirmation time (findings_F.md I8, session i)
+    # false alarms but costs the real blowouts the counter-brake for the confirmation time (tire_blowout_findings.md I8, session i)
     tpms_symmetric_release_flag: Annotated[int, Field(ge=0, le=1)] = 0
     # esp.abs_hold_limit's time limit on the ABS hold applied to the compensating FRONT wheel while the compensation runs
-    # (BUILD/HOLD/LIMITED) even with esp.abs_hold_limit_flag 0; 0 = the code before. Candidate (findings_F.md I10)
+    # (BUILD/HOLD/LIMITED) even with esp.abs_hold_limit_flag 0; 0 = the code before. Candidate (tire_blowout_findings.md I10)
     comp_hold_limit_flag: Annotated[int, Field(ge=0, le=1)] = 0
 
     @model_validator(mode="after")
