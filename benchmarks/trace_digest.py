@@ -7,11 +7,11 @@ identical: generate the digests from the code before the change, then compare af
     python benchmarks/trace_digest.py --compare benchmarks/results/digests_before.json # after
 
 ``--layouts truck_amt,ev_ehb`` restricts the scenarios. ``benchmarks/digests/main_<commit>.json`` holds the digests
-of all shipped scenarios at that commit (now bbb3b28, 82 scenarios, all regenerated at that commit: 7242b18's, with four
-traces session h changed on purpose - blowout_false_tpms_braking_60kph, blowout_braking_60kph_off, hba_split_mu_80kph and
-blowout_lf_80kph_curve, see docs/functions/tire_blowout_sessions.md 'Status at the end of session 2026-11-24 h'; the former
-f44e3f2 snapshot, taken before issue 13's engine changes, no longer matched 44 of them after intended model changes and
-was replaced). Work that changes
+of all shipped scenarios at that commit (now 315d2d8, 82 scenarios, all regenerated there: against the former bbb3b28
+snapshot one trace changed on purpose in session i - blowout_braking_60kph, esp.named_front_gma_flag, see
+docs/functions/tire_blowout.md 'Status at the end of session 2026-11-24 i' - and the metrics of the 33 sedan_esp scenarios
+gained the per-side lane-exceedance metrics of requirement no_lane_departure_caused; the earlier snapshots were replaced
+the same way after intended model changes, see docs/functions/tire_blowout_sessions.md). Work that changes
 traces on purpose (a model fix) should compare against the commit just before it, and whoever lands such a change
 refreshes this file in the same landing (one snapshot of one commit, never a mix of entries from several).
 """
