@@ -65,3 +65,24 @@ def test_caused_departure_is_judged_per_side():
     assert rob(1.2, -1.0, 1.5, +1.0) == pytest.approx(-(1.2 - BOUNDARY_M), abs=1e-6)
     assert rob(1.2, +1.0, 1.5, -1.0) == pytest.approx(-(1.2 - BOUNDARY_M), abs=1e-6)
     assert rob(1.2, -1.0, 1.5, -1.0) == pytest.approx(0.3, abs=1e-6)
+
+
+def test_reproduce_lane_counts_read_the_campaign_metrics_and_never_count_a_missing_one_as_inside():
+    """reproduce 004's false-alarm entry reports the absolute lane result from the per-side metrics its requirement
+    computed: hand-made evaluations, one point out by 0.2 m on the left with the function (its twin inside), one point out
+    on the right in both runs; a point without the metrics is 'not judged' (the entry read a metric no campaign computed
+    and reported every point inside the lane)."""
+    from types import SimpleNamespace
+
+    from vehicle_assist.procedures.blowout_study import _lane_counts
+
+    req = load_requirement_file("tire_blowout")["tire_blowout.no_lane_departure_caused"]
+    side = lambda l, r: {"blowout_lane_exceedance_left_m": l, "blowout_lane_exceedance_right_m": r}  # noqa: E731
+    ev = [SimpleNamespace(metrics=side(0.2, 0.0), baseline_metrics=side(0.0, 0.0)),
+          SimpleNamespace(metrics=side(0.0, 0.1), baseline_metrics=side(0.0, 0.4)),
+          SimpleNamespace(metrics=side(0.0, 0.0), baseline_metrics=side(0.0, 0.0))]
+    text = _lane_counts(SimpleNamespace(requirement=req, evaluations=ev))
+    assert "out of the lane with the function at 2 (max 0.200 m" in text, text
+    assert "without it at 1 (max 0.400 m)" in text and "both at 1" in text, text
+    ev.append(SimpleNamespace(metrics={}, baseline_metrics={}))
+    assert "not judged" in _lane_counts(SimpleNamespace(requirement=req, evaluations=ev))

@@ -13,6 +13,7 @@ two studies:
 from __future__ import annotations
 
 import csv
+import math
 from pathlib import Path
 
 import numpy as np
@@ -258,10 +259,22 @@ FALSIFY_SEED = 2026
 
 def _lane_counts(res) -> str:
     """The absolute lane result of a false-alarm campaign's evaluations (requirement stay_in_lane's boundary): how many
-    points left the lane with the function, how many without it (the twin), and the largest exceedance of each."""
-    m = "blowout_lane_exceedance_m"
-    a = [float(e.metrics.get(m, float("nan"))) for e in res.evaluations]
-    b = [float(e.baseline_metrics.get(m, float("nan"))) for e in res.evaluations]
+    points left the lane with the function, how many without it (the twin), and the largest exceedance of each - read
+    from the per-side lane metrics the campaign's requirement (no_lane_departure_caused) had computed at every point and
+    its twin; a point without them is reported as not judged, never counted as inside the lane."""
+    from vehicle_assist.verification.requirements import comparative_metrics
+
+    names = comparative_metrics(res.requirement)
+
+    def beyond(values: dict) -> float:
+        v = [float(values.get(n, float("nan"))) for n in names]
+        return float("nan") if not v or any(math.isnan(x) for x in v) else max(v)
+
+    a = [beyond(e.metrics) for e in res.evaluations]
+    b = [beyond(e.baseline_metrics) for e in res.evaluations]
+    missing = sum(1 for x, y in zip(a, b) if math.isnan(x) or math.isnan(y))
+    if missing:
+        return f"; absolute lane (stay_in_lane) not judged: the lane metrics {names} missing at {missing} of {len(a)} points"
     out_a = [x for x in a if x > 0.0]
     out_b = [x for x in b if x > 0.0]
     both = sum(1 for x, y in zip(a, b) if x > 0.0 and y > 0.0)
