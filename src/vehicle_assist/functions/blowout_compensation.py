@@ -191,7 +191,7 @@ import math
 import numba as nb
 import numpy as np
 
-from vehicle_assist.conventions import RHO_AIR_KGPM3
+from vehicle_assist.conventions import G_MPS2, RHO_AIR_KGPM3
 from vehicle_assist.core.fsm import StateMachine, Transition, log_event
 from vehicle_assist.plant.brakes.master_cylinder import proportioned_pa
 from vehicle_assist.plant.tires.blowout import OPPOSITE, redistributed_loads, transfer_n
@@ -748,7 +748,7 @@ def tire_capacity_estimate(p_wheel_pa, vw_now, omega_dot, v_ref, gain_nm_per_pa,
 def ecu_loads(p, a_x):
     """The ECU's static + longitudinal-transfer wheel loads from its nominal data (straight driving)."""
     m = p.body_mass_kg
-    g = 9.81
+    g = G_MPS2
     l = p.chassis_wheelbase_m
     l_f = p.chassis_cg_to_front_axle_m
     l_r = l - l_f
@@ -818,7 +818,7 @@ def released_moment_bound_nm(b, a_x, p):
         g = blown_ecu_loads(b, a_x, p)
         drag = p.blowout_compensation_mu_estimate_frac * p.blowout_compensation_blow_drag_frac * g[b]
         decel_n = max(decel_n - drag, 0.0)
-    f_o = decel_n / (m * 9.81) * (f0, f1, f2, f3)[o]
+    f_o = decel_n / (m * G_MPS2) * (f0, f1, f2, f3)[o]
     track = p.chassis_front_track_m if b < 2 else p.chassis_rear_track_m
     return 0.5 * track * f_o
 
@@ -891,7 +891,7 @@ def stability_bounds(mu, speed_mps):
     """(yaw-rate bound [rad/s], sideslip bound [rad]) of the stable region (Rajamani, Vehicle Dynamics and Control,
     2nd ed. 2012, ch. 8 yaw control - the bounds widely used in ESP literature): |r| <= 0.85*mu*g/u (the yaw rate
     the road friction can carry: u*r <= mu*g, 15 % margin), |beta| <= atan(0.02*mu*g)."""
-    g = 9.81
+    g = G_MPS2
     return YAW_BOUND_FRAC * mu * g / max(speed_mps, 1.0), math.atan(SIDESLIP_BOUND_S2_PER_M * mu * g)
 
 
@@ -1861,7 +1861,7 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
                         fz_b = max(fz_b, wheel_load_and_lateral_n(b, fz_b, a_y_meas, b, p)[0])
                     mu_acc = max(mu, accel_friction_lower_bound(a_x, a_y_meas, v_ref, fz_b, p))
                 else:
-                    mu_acc = max(mu, math.sqrt(a_x * a_x + a_y_meas * a_y_meas) / 9.81)
+                    mu_acc = max(mu, math.sqrt(a_x * a_x + a_y_meas * a_y_meas) / G_MPS2)
                 c_rl = wheel_circle_limit_mu(2, gl[2], a_y_ref, mu_acc, b, p)
                 c_rr = wheel_circle_limit_mu(3, gl[3], a_y_ref, mu_acc, b, p)
                 st[S_REAR_CAP] = min(c_rl, c_rr) * r_w / p.brakes_rear_gain_nm_per_pa
@@ -2021,7 +2021,7 @@ def accel_friction_lower_bound(a_x, a_y, v_ref, fz_blown_n, p):
     0.02-0.04 g of resistance). Not covered (no model of them in the plant; see the findings): accelerometer offset,
     body roll/pitch tilting the sensor (each adds g*sin(angle) to the reading), head wind."""
     m = p.body_mass_kg
-    big_g = m * 9.81
+    big_g = m * G_MPS2
     res = 0.5 * RHO_AIR_KGPM3 * p.body_drag_area_m2 * v_ref * v_ref + ROLLING_RESISTANCE_MAX_FRAC * big_g
     x = max(m * abs(a_x) - res, 0.0)
     y = m * abs(a_y)

@@ -78,12 +78,6 @@ def _departure(t, phi, mode, e):
     return float(_dev_max(t, phi, mode, e) > LANE_MARGIN_M)
 
 
-def _lane_exceedance(t, e):
-    """How far the car's edge gets beyond its lane marking over the whole run [m]: max(0, max |lane offset| -
-    LANE_MARGIN_M); 0 inside the lane. The same boundary as the requirement stay_in_lane (whole run, absolute offset)."""
-    return float(max(0.0, np.max(np.abs(e)) - LANE_MARGIN_M)) if e.size else 0.0
-
-
 def _lane_exceedance_left(t, e):
     """How far the car gets beyond its LEFT lane marking over the whole run [m] (lane_offset_m: left +):
     max(0, max(lane offset) - LANE_MARGIN_M). With ``_lane_exceedance_right`` the per-side reading of
@@ -95,6 +89,12 @@ def _lane_exceedance_right(t, e):
     """How far the car gets beyond its RIGHT lane marking over the whole run [m]: max(0, -min(lane offset) -
     LANE_MARGIN_M)."""
     return float(max(0.0, -np.min(e) - LANE_MARGIN_M)) if e.size else 0.0
+
+
+def _lane_exceedance(t, e):
+    """How far the car's edge gets beyond its lane marking over the whole run [m], either side: the larger of the two
+    per-side readings (max(0, max |lane offset| - LANE_MARGIN_M); 0 inside the lane, stay_in_lane's boundary)."""
+    return max(_lane_exceedance_left(t, e), _lane_exceedance_right(t, e))
 
 
 def _decel(t, phi, mode, a):

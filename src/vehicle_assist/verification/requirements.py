@@ -217,7 +217,7 @@ def make_requirement(spec: RequirementSpec, layout: str, where: str, prefix: str
         metric = spec.metric
         from vehicle_assist.metrics import METRICS
 
-        for name in [m.strip() for m in metric.split(",") if m.strip()]:
+        for name in metric_names(metric):
             # (review RI3, session i) an unknown name was read as NaN in both runs: the requirement silently "not
             # judged" everywhere, and with several metrics its NaN hid the others' violations
             if name not in METRICS:
@@ -389,10 +389,15 @@ def no_worse_robustness(metrics: dict, baseline_metrics: dict, metric: str, floo
     return float(r) if math.isfinite(r) else float("nan")
 
 
+def metric_names(text: str) -> list[str]:
+    """The metric names of a comparative requirement's ``metric`` field: one name or several joined by commas."""
+    return [m.strip() for m in text.split(",") if m.strip()]
+
+
 def comparative_metrics(req: Requirement) -> list[str]:
-    """The run metrics a ``no_worse_than_baseline`` requirement compares: ``metric`` is one name or several joined by
-    commas, each compared with the twin's own value of the same metric (e.g. the lane exceedance per side)."""
-    return [m.strip() for m in req.metric.split(",") if m.strip()]
+    """The run metrics a ``no_worse_than_baseline`` requirement compares, each with the twin's own value of the same
+    metric (e.g. the lane exceedance per side)."""
+    return metric_names(req.metric)
 
 
 def comparative_robustness(req: Requirement, metrics: dict, baseline_metrics: dict) -> float:
