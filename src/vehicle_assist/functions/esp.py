@@ -836,11 +836,18 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                 p_t = bst[bc.S_P_BRAKE]
                 if bst[bc.S_P_PREDUMP] > 0.0:
                     p_t = min(p_t, bst[bc.S_P_PREDUMP])
-                if wheels[i, A_P_EST] > p_t + 1.0e5 and wheels[i, A_P_EST] > bst[bc.S_P_REQ] + 1.0e5:
+                # (pressure_estimate_line_flag = 3, candidate, review RI4) the wheel is compared with the ceiling on the
+                # estimate the ceiling was stored from (A_P_LINE at flag >= 2): at 2 a level stored from the line estimate
+                # is compared with A_P_EST, which jumped to the source in N (61.9 vs 167.8 bar after I9's step), so this
+                # 'down to the target' dump ran until A_P_EST read the 62 bar with the line estimate near 21 bar (I9's
+                # 20 -> 167.8 bar step, nominal dump model); lead's bb47 #5 robustness 2: 3.593 m, 3: 4.128 m (= flag 0)
+                p_c = wheels[i, A_P_LINE] if (p.esp_pressure_estimate_line_flag > 2.5 and bst[bc.S_P_PREDUMP] > 0.0
+                                              and p_t >= bst[bc.S_P_PREDUMP]) else wheels[i, A_P_EST]
+                if p_c > p_t + 1.0e5 and wheels[i, A_P_EST] > bst[bc.S_P_REQ] + 1.0e5:
                     wm = W_D  # down to the target (also against an ABS hold: less pressure is always allowed)
                 elif wm == W_H:
                     pass  # ABS hold: no build
-                elif wheels[i, A_P_EST] < p_t - 1.0e5:
+                elif p_c < p_t - 1.0e5:
                     wm = W_BP
                 else:
                     wm = W_HI

@@ -151,7 +151,9 @@ class SedanEsp(Strict):
     # HBA stops); 2 = that line estimate kept alongside (A_P_LINE) and read only for the lock level stored at an ABS
     # dump's start (S_P_PREDUMP) - shipped (I11, session i); 1 is a candidate NOT enabled (tire_blowout_findings.md I9, I11);
     # 0 = seeded defect (the code before: the lock level read the source step, 167.8 bar vs 86.4 bar in the wheel)
-    pressure_estimate_line_flag: Annotated[int, Field(ge=0, le=2)] = 2
+    # 3 = candidate NOT shipped (review RI4): as 2, and the braking rule's re-build ceiling (S_P_PREDUMP) is compared
+    # with the line estimate it was stored from, not with A_P_EST (bb47 #5: 2 -> rob 3.593 m, 3 -> 4.128 m = flag 0)
+    pressure_estimate_line_flag: Annotated[int, Field(ge=0, le=3)] = 2
     abs_hold_slip_rise_frac: Annotated[float, Field(ge=0, lt=1)] = 0.005
     reference_decel_margin_mps2: Annotated[float, Field(ge=0, le=10)]
     # wheel-signal plausibility of the reference speed (implausibly fast wheel left out); 0 = defect (max of the four)
