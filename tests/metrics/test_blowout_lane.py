@@ -39,8 +39,9 @@ def test_caused_departure_holds_inside_the_lane_and_when_the_twin_is_further_out
         b = compute_metrics(lane_trace(twin_peak_m), comparative_metrics(req))
         return comparative_robustness(req, f, b)
 
-    # both inside the lane: holds, whatever the difference (never-worse is another requirement)
-    assert rob(0.9, 0.1) == pytest.approx(0.0, abs=1e-9)
+    # both inside the lane: holds, whatever the difference (never-worse is another requirement); the margin is the
+    # function's distance to the nearer marking (signed overshoot, review RI3 session i), not 0
+    assert rob(0.9, 0.1) == pytest.approx(BOUNDARY_M - 0.9, abs=1e-6)
     # the twin leaves by 0.522 m, the function by 0.222 m: holds with 0.3 m to spare
     assert rob(1.2, 1.5) == pytest.approx(0.3, abs=1e-6)
     # the twin stays in, the function leaves by 0.022 m: the function caused the departure - violated
@@ -57,7 +58,7 @@ def test_caused_departure_is_judged_per_side():
     req = load_requirement_file("tire_blowout")["tire_blowout.no_lane_departure_caused"]
 
     def rob(function_peak_m, function_sign, twin_peak_m, twin_sign):
-        names = ["blowout_lane_exceedance_m", "blowout_lane_exceedance_left_m", "blowout_lane_exceedance_right_m"]
+        names = ["blowout_lane_exceedance_m", "blowout_lane_overshoot_left_m", "blowout_lane_overshoot_right_m"]
         f = compute_metrics(lane_trace(function_peak_m, function_sign), names)
         b = compute_metrics(lane_trace(twin_peak_m, twin_sign), names)
         return comparative_robustness(req, f, b)
@@ -77,12 +78,23 @@ def test_reproduce_lane_counts_read_the_campaign_metrics_and_never_count_a_missi
     from vehicle_assist.procedures.blowout_study import _lane_counts
 
     req = load_requirement_file("tire_blowout")["tire_blowout.no_lane_departure_caused"]
-    side = lambda l, r: {"blowout_lane_exceedance_left_m": l, "blowout_lane_exceedance_right_m": r}  # noqa: E731
-    ev = [SimpleNamespace(metrics=side(0.2, 0.0), baseline_metrics=side(0.0, 0.0)),
-          SimpleNamespace(metrics=side(0.0, 0.1), baseline_metrics=side(0.0, 0.4)),
-          SimpleNamespace(metrics=side(0.0, 0.0), baseline_metrics=side(0.0, 0.0))]
+    side = lambda l, r: {"blowout_lane_overshoot_left_m": l, "blowout_lane_overshoot_right_m": r}  # noqa: E731
+    ev = [SimpleNamespace(metrics=side(0.2, -0.9), baseline_metrics=side(-0.3, -0.6)),
+          SimpleNamespace(metrics=side(-0.5, 0.1), baseline_metrics=side(-0.7, 0.4)),
+          SimpleNamespace(metrics=side(-0.1, -0.8), baseline_metrics=side(-0.4, -0.2))]
     text = _lane_counts(SimpleNamespace(requirement=req, evaluations=ev))
     assert "out of the lane with the function at 2 (max 0.200 m" in text, text
     assert "without it at 1 (max 0.400 m)" in text and "both at 1" in text, text
     ev.append(SimpleNamespace(metrics={}, baseline_metrics={}))
     assert "not judged" in _lane_counts(SimpleNamespace(requirement=req, evaluations=ev))
+
+
+def test_caused_departure_margin_is_the_clean_sides_distance_to_its_marking():
+    """Review RI3 (session i): the function drifts to 0.97 m LEFT (0.008 m inside the left marking: 0.978 - 0.97, by
+    hand), the twin to 1.278 m RIGHT (0.3 m beyond the right marking). The distance to a violation is the function's
+    0.008 m on the left, not the right side's 0.3 m spare (what the clipped exceedance, 0 on the clean left side in both
+    runs, reported)."""
+    req = load_requirement_file("tire_blowout")["tire_blowout.no_lane_departure_caused"]
+    f = compute_metrics(lane_trace(0.97, +1.0), comparative_metrics(req))
+    b = compute_metrics(lane_trace(1.278, -1.0), comparative_metrics(req))
+    assert comparative_robustness(req, f, b) == pytest.approx(BOUNDARY_M - 0.97, abs=1e-6)

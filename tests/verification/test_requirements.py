@@ -173,7 +173,7 @@ def test_comparative_violation_stands_next_to_an_unjudged_metric():
     judged). The conjunction is violated whatever the unjudged part: -0.3 m, not NaN ('not counted'). With nothing
     violated the NaN stays NaN (no pass is invented)."""
     r = get_requirement("tire_blowout.no_lane_departure_caused")
-    left, right = "blowout_lane_exceedance_left_m", "blowout_lane_exceedance_right_m"
+    left, right = "blowout_lane_overshoot_left_m", "blowout_lane_overshoot_right_m"
     nan = float("nan")
-    assert comparative_robustness(r, {left: 0.3, right: 0.0}, {left: 0.0, right: nan}) == pytest.approx(-0.3)
-    assert math.isnan(comparative_robustness(r, {left: 0.0, right: 0.0}, {left: 0.2, right: nan}))
+    assert comparative_robustness(r, {left: 0.3, right: -0.5}, {left: -0.2, right: nan}) == pytest.approx(-0.3)
+    assert math.isnan(comparative_robustness(r, {left: -0.1, right: -0.2}, {left: 0.2, right: nan}))

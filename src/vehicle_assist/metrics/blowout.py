@@ -91,6 +91,20 @@ def _lane_exceedance_right(t, e):
     return float(max(0.0, -np.min(e) - LANE_MARGIN_M)) if e.size else 0.0
 
 
+def _lane_overshoot_left(t, e):
+    """The SIGNED distance of the car's edge beyond its LEFT lane marking at its furthest left over the whole run [m]:
+    max(lane offset) - LANE_MARGIN_M (positive: beyond the marking by that much, as ``_lane_exceedance_left``; negative:
+    still that far inside). The continuous per-side margin a comparative requirement needs (review RI3, session i: the
+    clipped exceedance reads 0 anywhere inside the lane, so a side clean in both runs carried no margin and the
+    requirement reported the other side's)."""
+    return float(np.max(e) - LANE_MARGIN_M) if e.size else float("nan")
+
+
+def _lane_overshoot_right(t, e):
+    """The signed distance beyond the RIGHT marking at the car's furthest right [m]: -min(lane offset) - LANE_MARGIN_M."""
+    return float(-np.min(e) - LANE_MARGIN_M) if e.size else float("nan")
+
+
 def _lane_exceedance(t, e):
     """How far the car's edge gets beyond its lane marking over the whole run [m], either side: the larger of the two
     per-side readings (max(0, max |lane offset| - LANE_MARGIN_M); 0 inside the lane, stay_in_lane's boundary)."""
@@ -201,6 +215,10 @@ _DEFS = [
      "max(0, max lane offset - (3.75 m lane - 1.794 m car)/2) over the whole run: how far beyond the LEFT marking"),
     ("blowout_lane_exceedance_right_m", _lane_exceedance_right, ("lane_offset_m",),
      "max(0, -min lane offset - (3.75 m lane - 1.794 m car)/2) over the whole run: how far beyond the RIGHT marking"),
+    ("blowout_lane_overshoot_left_m", _lane_overshoot_left, ("lane_offset_m",),
+     "max lane offset - (3.75 m lane - 1.794 m car)/2 over the whole run: signed distance beyond the LEFT marking (< 0 inside)"),
+    ("blowout_lane_overshoot_right_m", _lane_overshoot_right, ("lane_offset_m",),
+     "-min lane offset - (3.75 m lane - 1.794 m car)/2 over the whole run: signed distance beyond the RIGHT marking (< 0 inside)"),
     ("blowout_decel_mean_mps2", _decel, _BASE + ("accel_mps2",), "mean deceleration in [t_b, t_b + 2 s]"),
     ("blowout_detection_time_s", _detect_time, _BASE + ("blowout_detected_wheel_index",), "detection time after t_b"),
     ("blowout_detected_wheel_index", lambda t, d: float(np.max(d)), ("blowout_detected_wheel_index",),

@@ -402,10 +402,12 @@ def comparative_metrics(req: Requirement) -> list[str]:
 
 def comparative_robustness(req: Requirement, metrics: dict, baseline_metrics: dict) -> float:
     """Robustness of a ``no_worse_than_baseline`` requirement (``no_worse_robustness`` on its metric and floor; with
-    several metrics the least of them: each must be no worse than the twin's). A metric at or below the floor in BOTH
-    runs (e.g. neither car beyond the right marking) is left out of the least when another is not: its robustness
-    floor - value >= 0 cannot be a violation, and it would hide the margin of the others (0 instead of the twin's
-    larger exceedance on the side where both left)."""
+    several metrics the least of them: each must be no worse than the twin's). A metric AT the floor in both runs (a
+    clipped reading such as the lane exceedance, 0 anywhere inside the lane: it carries no margin) is left out of the
+    least when another is not: its robustness 0 cannot be a violation, and it would hide the margin of the others. A
+    signed metric below the floor (e.g. the lane overshoot, negative inside the lane) stays in: floor - value is then the
+    real distance to a violation on that side (review RI3, session i: leaving out every metric at OR below the floor
+    reported a clean side's neighbour's margin, +0.3 m where the car was ~0 m from the marking)."""
     names = comparative_metrics(req)
     robs = [no_worse_robustness(metrics, baseline_metrics, m, req.rollback_floor_m) for m in names]
     if any(math.isnan(r) for r in robs):
@@ -415,7 +417,7 @@ def comparative_robustness(req: Requirement, metrics: dict, baseline_metrics: di
         return float(worst) if worst < 0.0 else float("nan")
     floor = req.rollback_floor_m
     live = [r for m, r in zip(names, robs)
-            if not (float(metrics.get(m, float("nan"))) <= floor and float(baseline_metrics.get(m, float("nan"))) <= floor)]
+            if not (float(metrics.get(m, float("nan"))) == floor and float(baseline_metrics.get(m, float("nan"))) == floor)]
     return float(min(live or robs))
 
 
