@@ -340,11 +340,7 @@ S_REAPPLY_OP = S_REAPPLY_O + 1
 DUMP_NOISE_SIGMAS = 3.0  # assumed (abs_dump_noise_flag): the dump reading's deceleration is taken 3 sigma of its
 #   white-noise error above the reading (one-sided Gaussian: exceeded in 0.13 % of readings by noise alone), sigma from
 #   the design wheel-speed noise blowout_compensation.abs_dump_speed_noise_radps (``dump_window_reading``)
-# blown_front_hold_band_flag: 1 while the blown inner front is let go on the yaw (the yaw rate went beyond the steered
-# reference toward the blown side by more than the closed-loop dead band), 0 = held; back to 0 once the yaw falls short
-# of the reference by more than the band (relay with the dead band as its hysteresis, ``blown_front_hold``)
-S_FH_RELEASED = S_REAPPLY_OP + 1
-STATE_SIZE = S_FH_RELEASED + 1
+STATE_SIZE = S_REAPPLY_OP + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -1596,7 +1592,6 @@ def blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p):
     #124 and 13 #45, 2.04 / 2.20 m vs none 1.34 / 2.00: not done)."""
     if (braking < 0.5 or b < 0 or b >= 2 or tg < 0 or tg >= 2 or tg == b
             or not (mode == BUILD or mode == HOLD or mode == LIMITED)):
-        st[S_FH_RELEASED] = 0.0  # (blown_front_hold_band_flag) a new pedal application / compensation starts held
         return
     if st[S_ABS_ACTIVE + tg] < 0.5 and not (p.blowout_compensation_braking_lock_keep_flag > 0.5
                                             and p.blowout_compensation_braking_lock_floor_flag > 0.5
@@ -1609,24 +1604,7 @@ def blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p):
     if toward_blown_side(b, r_ref) <= p.blowout_compensation_yaw_deadband_radps:
         return  # not a turn toward the blown side
     toward = toward_blown_side(b, yaw_rate)
-    if p.blowout_compensation_blown_front_hold_band_flag > 0.5:
-        # (blown_front_hold_band_flag, 0 = the code before = switched at the reference: released whenever the yaw is
-        # above it) a relay with the closed-loop dead band yaw_deadband as its hysteresis, on both sides of the
-        # reference: let go once the yaw exceeds the steered reference toward the blown side by more than the band,
-        # held again once it falls short of it by more than the band; inside the band the last decision stands (the
-        # band is this function's "no yaw deviation" everywhere else: the braking rule's share is held where it is
-        # inside it). Switched at 0, the wheel's two states - released (dumped to ~1 bar in ~0.1 s) and held (re-applied
-        # by the driver/ABS) - alternated on every swing of the yaw mode around the reference; a +0.07..+0.41 deg/s
-        # swing released the ABS-held flat front 14.8 -> 1.2 bar and the yaw went 1-2 deg/s below the reference
-        # (tire_blowout_findings.md I3: lead c2026 b200 #161). Symmetric, so the cycle stays centred on the reference (a band only
-        # above it shifted the yaw toward the blown side: r41 #328 0.868 -> 1.110 m)
-        if toward > p.blowout_compensation_yaw_deadband_radps:
-            st[S_FH_RELEASED] = 1.0
-        elif toward < -p.blowout_compensation_yaw_deadband_radps:
-            st[S_FH_RELEASED] = 0.0
-        if st[S_FH_RELEASED] > 0.5:
-            return  # yawing toward the blown side beyond the steering's demand: the release answers it
-    elif toward > 0.0:
+    if toward > 0.0:
         return  # yawing toward the blown side beyond the steering's demand: the release answers it
     requests[b] = Q_HOLD
 

@@ -362,11 +362,6 @@ class SedanBlowoutCompensation(Strict):
     # a TPMS-path detection (TPMS alone, driver braking) gets no compensation build until the released wheel's over-speed
     # confirms it (second source); only the release acts before. SHIPPED 0 (the code before): a candidate measured worse
     single_source_build_flag: Annotated[int, Field(ge=0, le=1)] = 0
-    # blown_front_hold: the blown inner front let go once the yaw exceeds the steered reference toward it by more than
-    # the closed-loop dead band and held again once it falls short of it by more than the band, the last decision kept
-    # inside the band (relay with the dead band as its hysteresis); 0 = the code before (switched at the reference).
-    # Shipped 0: candidate (tire_blowout_findings.md I3: new violations elsewhere)
-    blown_front_hold_band_flag: Annotated[int, Field(ge=0, le=1)] = 0
     # a TPMS-path detection's confirmation release made yaw-neutral: while the released wheel's verdict is pending the
     # other wheel of the same axle is released with it (select-low on that axle), re-applied with it after a rejection,
     # and the compensation build waits for the confirmation. SHIPPED 0 (the code before): a candidate that fixes the
