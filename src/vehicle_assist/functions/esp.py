@@ -105,14 +105,12 @@ ABS_LOG_CAP = 60  # ABS mode changes logged per wheel (the event buffer is share
 # controller state vector (named indices)
 C_V_REF, C_STARTED, C_IMPLAUSIBLE_S, C_SENSOR_LATCH, C_GMA_START, C_GMA_WHEEL, C_T, C_SENSOR_OK, C_ABS_OK, \
     C_HBA_AVAILABLE, C_SOURCE_C1, C_SOURCE_C2, C_GMA_BLOCK, C_PUMPED_C1, C_PUMPED_C2, C_REF_EXCLUDED, \
-    C_REF_PERSIST_S, C_BRAKED_S, C_GMA_PRE, C_NAMED_LIMITED, C_LOCK_P0, C_LOCK_P1, C_LOCK_REJ = range(23)
+    C_REF_PERSIST_S, C_BRAKED_S, C_GMA_PRE, C_LOCK_P0, C_LOCK_P1, C_LOCK_REJ = range(22)
 SRC_UNDECIDED, SRC_PUMP, SRC_DRIVER = 0.0, 1.0, 2.0  # per circuit during an assist (C_SOURCE_C1/C2)
-CTL_SIZE = 23
+CTL_SIZE = 22
 # C_LOCK_P0/1: each front's ABS lock level while the brake is on - its estimated pressure when ABS last began a dump
 # (0 none yet, -1 skip the next dump; cleared when the brake is released); read by gma_rejected_split_flag only.
 # C_LOCK_REJ = 1 + the rejected front whose lock level was reset at its rejection (gma_rejected_split_flag)
-# C_NAMED_LIMITED = 1 + the TPMS-named front whose brake the yaw limitation has held or dumped in this named window
-# (named_front_yaw_flag; 0 none): it re-builds in pulses, never by a step to the driver's pressure
 # C_GMA_PRE = 1 + the front wheel whose split-mu GMA was running when a blowout detection on the OTHER front made it
 # the compensating wheel and gma_blown_front_flag ended that GMA (0 none; gma_rejected_pre_flag); cleared with the block
 # C_BRAKED_S: time since the brake-light switch came on (0 while off)
@@ -655,33 +653,6 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # step to the driver's pressure: a 36 -> 179 bar step stopped the high-mu wheel within two controller
             # periods at 10 km/h (split-mu, 300 N: wheel at 0 rad/s with the car above 5 km/h, criterion 5)
             wheels[g, A_REQUEST] = R_GMA_PULSE
-
-    # (named_front_yaw_flag) the TPMS-named front's brake (named_f above): ABS cannot find its lock level from a slip it
-    # cannot read, so its brake moment is bounded by the car's response instead - the GMA's yaw limitation applied to
-    # it (hold above yaw_hold_rate, dump above yaw_dump_rate toward its side), judged on the deviation from the
-    # driver's steered reference (blowout_compensation.reference_yaw_rate: the curve's own yaw is the driver's, the
-    # excess toward the named side is its brake's). ABS's own hold/dump of it still win; once limited it re-builds in
-    # pulses (R_GMA_PULSE, as the GMA's wheel), never by a step to the driver's pressure. Paper 004 P7 / spec 5: the
-    # function's sequence starts at the detection; before it the named wheel is braked as by any ESP, whose yaw
-    # limitation must then bound a brake force ABS cannot bound. 0 = the code before (its brake bounded by ABS alone).
-    # Shipped 0, a candidate NOT enabled: on the braking front points of session h's searches it fixes RG2 43 #30
-    # (-3.308 -> +2.534 m) but adds two violations (braking 47 #1 +0.405 -> -4.719 m, a spin; random 41 #407 +0.030
-    # -> -2.014 m) - tire_blowout_findings.md "I4 (session i)".
-    if p.esp_named_front_yaw_flag > 0.5 and named_f >= 0 and abs_allowed:
-        toward_n = (meas.yaw_rate_radps - bc.reference_yaw_rate(meas.steering_angle_rad, v_ref, p)) * (
-            1.0 if named_f == 0 else -1.0)
-        req_n = int(wheels[named_f, A_REQUEST])
-        if req_n != R_DUMP and req_n != R_HOLD:
-            if toward_n > p.esp_yaw_dump_rate_radps:
-                wheels[named_f, A_REQUEST] = R_DUMP
-                ctl[C_NAMED_LIMITED] = named_f + 1.0
-            elif toward_n > p.esp_yaw_hold_rate_radps:
-                wheels[named_f, A_REQUEST] = R_GMA_HOLD
-                ctl[C_NAMED_LIMITED] = named_f + 1.0
-            elif int(ctl[C_NAMED_LIMITED]) - 1 == named_f and req_n == R_OFF:
-                wheels[named_f, A_REQUEST] = R_GMA_PULSE
-    elif named_f < 0 or not bls:
-        ctl[C_NAMED_LIMITED] = 0.0
 
     # HBA
     hba_mode = hba.INACTIVE

@@ -135,9 +135,6 @@ class SedanEsp(Strict):
     # a TPMS-named front (before the detection): its ABS activity does not start the GMA on the other front; 0 = the code
     # before (tire_blowout_findings.md I4)
     named_front_gma_flag: Annotated[int, Field(ge=0, le=1)] = 1
-    # 1 = a TPMS-named front's brake bounded by the GMA's yaw limitation on the steered reference - a candidate NOT
-    # enabled (it adds violations, tire_blowout_findings.md I4); 0 = the code before (shipped)
-    named_front_yaw_flag: Annotated[int, Field(ge=0, le=1)] = 0
     hba_master_rebuild_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: pump re-build undecided)
     hba_rampout_pumped_only_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: ramp-out unpumped)
     abs_signal_filter_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (#10 F2: raw-differenced wheel decel)
