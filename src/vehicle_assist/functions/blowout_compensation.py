@@ -1530,15 +1530,6 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, requests, p, dt, v_ref)
     if p.blowout_compensation_braking_rule_flag > 0.5:
         braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref, a_y_meas, v_ref)
-    if (p.blowout_compensation_single_source_build_flag > 0.5 and tg >= 0 and st[S_HEALTHY_S] > -0.5
-            and (mode == BUILD or mode == HOLD or mode == LIMITED)):
-        # (single_source_build_flag, 0 = seeded defect = the build at once) a TPMS-path detection (TPMS alone, driver
-        # braking) is one source until the released wheel confirms it (released_wheel_healthy: its over-speed, the
-        # wheel-speed signature, S_HEALTHY_S = -1): until then the named wheel is released - the release is what lets
-        # a flat wheel show its over-speed - but the compensating wheel gets no added pressure (Q_NONE: the driver's
-        # pressure and ABS, as without the function). A false alarm's build was the unbalanced moment that kicked the
-        # yaw before the rejection (tire_blowout_findings.md H2); confirmed, the build starts (as from HOLD: to S_P_REQ / S_P_BRAKE)
-        requests[tg] = Q_NONE
     if (p.blowout_compensation_tpms_symmetric_release_flag > 0.5 and b >= 0 and st[S_HEALTHY_S] > -0.5
             and (mode == BUILD or mode == HOLD or mode == LIMITED)):
         # (tpms_symmetric_release_flag, 0 = seeded defect = the named wheel alone released and the build at once) the

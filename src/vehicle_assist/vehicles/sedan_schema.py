@@ -356,9 +356,6 @@ class SedanBlowoutCompensation(Strict):
     # assumed: design white wheel-speed noise per ESP sample [rad/s] = the envelope's upper end (tire_blowout envelope
     # wheel_speed_noise: ~0.23 rad/s from a 0.5 % tooth-pitch error, 0.3 with margin)
     abs_dump_speed_noise_radps: Annotated[float, Field(ge=0)] = 0.3
-    # a TPMS-path detection (TPMS alone, driver braking) gets no compensation build until the released wheel's over-speed
-    # confirms it (second source); only the release acts before. SHIPPED 0 (the code before): a candidate measured worse
-    single_source_build_flag: Annotated[int, Field(ge=0, le=1)] = 0
     # a TPMS-path detection's confirmation release made yaw-neutral: while the released wheel's verdict is pending the
     # other wheel of the same axle is released with it (select-low on that axle), re-applied with it after a rejection,
     # and the compensation build waits for the confirmation. SHIPPED 0 (the code before): a candidate that fixes the
