@@ -857,24 +857,12 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # function; then (or at an ABS dump of it) ABS as usual
             if bst[bc.S_REAPPLY_P] < 0.0:
                 bst[bc.S_REAPPLY_P] = wheels[i, A_P_EST]
-            # (the axle partner re-applied with it, tpms_symmetric_release_flag: up to the driver's pressure)
-            p_to = src_i if int(bst[bc.S_REAPPLY_O]) == bc.OPPOSITE[i] else min(wheels[bc.OPPOSITE[i], A_P_EST], src_i)
+            p_to = min(wheels[bc.OPPOSITE[i], A_P_EST], src_i)
             if wm == W_D or bst[bc.S_REAPPLY_P] >= p_to - 1.0e5:
                 bst[bc.S_REAPPLY] = -1.0
             else:
                 wm = W_N
                 bst[bc.S_REAPPLY_P] += (src_i - bst[bc.S_REAPPLY_P]) * min(dt / p.esp_unit_line_time_constant_s, 1.0)
-        if abs_ok and int(bst[bc.S_REAPPLY_O]) == i and blow_req[i] == bc.Q_NONE:
-            # (tpms_symmetric_release_flag) the axle partner released with the named wheel for the TPMS-path
-            # confirmation: after the rejection the driver's pressure back at once as the named wheel (line model up to
-            # the source), then (or at an ABS dump) ABS as usual - both wheels of the axle return together
-            if bst[bc.S_REAPPLY_OP] < 0.0:
-                bst[bc.S_REAPPLY_OP] = wheels[i, A_P_EST]
-            if wm == W_D or bst[bc.S_REAPPLY_OP] >= src_i - 1.0e5:
-                bst[bc.S_REAPPLY_O] = -1.0
-            else:
-                wm = W_N
-                bst[bc.S_REAPPLY_OP] += (src_i - bst[bc.S_REAPPLY_OP]) * min(dt / p.esp_unit_line_time_constant_s, 1.0)
         if (abs_ok and i >= 2 and bst[bc.S_PAIR_LOW] > 0.5 and int(bst[bc.S_REAPPLY]) < 0
                 and wheels[i, A_P_EST] > wheels[5 - i, A_P_EST] + 1.0e5):
             # rear rejected while braking (reject_pair_low_flag), its re-apply over: select-low on the pair's pressure -
@@ -891,8 +879,6 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # (reject_pair_low_flag) the re-applied rear's estimate is the re-apply's line model, not the source W_N's
             # estimate jumps to: ABS may dump the pair before the line has filled it (35 bar of 81, 120 km/h 500 N)
             wheels[i, A_P_EST] = bst[bc.S_REAPPLY_P]
-        if i >= 2 and bst[bc.S_PAIR_LOW] > 0.5 and int(bst[bc.S_REAPPLY_O]) == i and wm == W_N:
-            wheels[i, A_P_EST] = bst[bc.S_REAPPLY_OP]  # (the partner's line model, as above)
         wheels[i, A_INLET_OPEN_S] = wheels[i, A_INLET_OPEN_S] + dt if (wm == W_B or wm == W_BP) else 0.0
     return n_events
 
