@@ -684,10 +684,6 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     # limit (slip beyond the hold threshold with a hold or dump) while the driver's pressure is more than 1 bar above
     # the wheel's - the driver alone reaches the ABS level. A SRC_DRIVER circuit (one switching valve, so its rear
     # wheel too) uses row A_DRIVER: plain ABS on the driver's pressure, as without HBA.
-    # (hba_named_driver_flag) a wheel only NAMED by the TPMS, not (yet) detected: the compensation IDLE - not after a
-    # rejection (a rejected false alarm stays named: acting there moved the false-alarm grid's lane exit k=664 -> k=663)
-    named_driver = (p.esp_hba_named_driver_flag > 0.5 and blown >= 0 and int(bst[bc.S_BLOWN]) < 0
-                    and int(bst[bc.S_MODE]) == bc.IDLE)
     for i in range(2):
         c = CIRCUIT[i]
         if hba_mode == hba.INACTIVE:
@@ -697,8 +693,6 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         elif ctl[C_SOURCE_C1 + c] == SRC_UNDECIDED:
             last = int(wheels[i, A_WHEEL_MODE])
             lifted = last == W_B or last == W_BP or p.esp_hba_rampout_pumped_only_flag < 0.5 or blown >= 0
-            if named_driver and i == blown:
-                lifted = False  # (hba_named_driver_flag) the named wheel stays on the driver's pressure (below)
             # (the pump lifted it: above the driver in a pump build mode; a wheel left above an easing driver's
             # pressure, or the GMA's wheel held at the driver's, is not pump-served - latching it made the
             # circuit's rear pumped on split-mu with an easing driver: CMA-ES/random seed 7 counterexamples)
@@ -734,20 +728,6 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # a rear wheel is pumped above its proportioned driver pressure only once the pump has had to lift its
             # circuit's front wheel (pumping it while the front still rebuilt below the driver put the rear into ABS
             # cycling the car without HBA does not have)
-            row = A_DRIVER
-        if named_driver and i == blown and hba_mode == hba.ACTIVE:
-            # (hba_named_driver_flag) A wheel only NAMED by the TPMS (excluded from the reference, not yet detected:
-            # the blowout compensation idle) is not pump-served: plain ABS on the driver's pressure (hold with the
-            # circuit open, re-build from the master), as without HBA. HBA's pump build is bounded only by ABS finding
-            # the lock level from the wheel's slip (brake_assist.md P2/P6), and a deflating tire's rolling radius is
-            # unknown to the ECU (spec tire_blowout.md 6, R_out -> R_in): its nominal-radius speed overstates its
-            # periphery, the slip ABS reads is short by (R_out - R_eff)/R_eff and the pump has no valid limit on it;
-            # and the function's own sequence (paper 004 P7, spec 5) starts at the detection and gives the blown
-            # wheel no pressure - pumping it above the driver before the detection works against it. Once detected
-            # the compensation's arbitration governs the wheel, as before. Status item 4 (session h, H5): NOT enabled
-            # (toml 0): it changes the named wheel's re-build source (master, not pump), not its level; on 1,053 pedal
-            # evaluations of 15 searches net -0.44 m with equal violation counts, but it MOVES a violation (CMA-ES 2026
-            # #196 fixed / #176 new, a knife edge) - tire_blowout_findings.md "H5 (session h)".
             row = A_DRIVER
         req = int(wheels[i, A_REQUEST])
         if (row == A_DRIVER and i == gma_wheel and blown < 0 and p.esp_gma_follow_flag > 0.5

@@ -129,9 +129,6 @@ class SedanEsp(Strict):
     hba_rear_select_low_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = old: rears pumped with their circuit's front
     # select-low also while a wheel is only TPMS-named (compensation idle); 0 = seeded defect (off for any excluded wheel)
     hba_rear_select_low_tpms_flag: Annotated[int, Field(ge=0, le=1)] = 1
-    # 1 = the TPMS-named wheel kept on the driver's pressure under HBA before the detection - a candidate NOT enabled
-    # (it moves a violation, tire_blowout_findings.md H5); 0 = the code before (shipped)
-    hba_named_driver_flag: Annotated[int, Field(ge=0, le=1)] = 0
     # a TPMS-named front (before the detection): its ABS activity does not start the GMA on the other front; 0 = the code
     # before (tire_blowout_findings.md I4)
     named_front_gma_flag: Annotated[int, Field(ge=0, le=1)] = 1
