@@ -619,14 +619,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     if not abs_allowed:
         ctl[C_GMA_WHEEL] = -1.0
     g = int(ctl[C_GMA_WHEEL])
-    # (gma_yaw_reference_flag) the GMA's yaw limitation judges the yaw rate's deviation from the driver's steered
-    # reference (reference_yaw_rate of the measured steer angle and v_ref), not the raw yaw rate: a curve's own yaw is
-    # what the driver asks for, not the split-mu brake-force difference's (H2: in a 650 m left curve at 107 km/h the
-    # raw ~5 deg/s dumped FL 29.9 -> 15.8 bar and held it ~1 s against FR at 45.7 bar, turning the car out of the curve)
-    # Shipped 0 (the raw yaw rate): on the tire-blowout envelope it cost never-worse points (tire_blowout_findings.md H7).
+    # the GMA's yaw limitation judges the RAW measured yaw rate (a curve's own yaw counts too: status h item 4; the
+    # candidate judging the deviation from the steered reference, H7, was deleted in session j - it added never-worse
+    # violations on the tire-blowout envelope, tire_blowout_findings.md H7 / J3)
     yaw_dev = meas.yaw_rate_radps
-    if p.esp_gma_yaw_reference_flag > 0.5:
-        yaw_dev = meas.yaw_rate_radps - bc.reference_yaw_rate(meas.steering_angle_rad, v_ref, p)
     if (g >= 0 and int(wheels[g, A_MODE]) == abs_fn.HOLD and 0 <= rej < 2
             and p.blowout_compensation_gma_rejected_hold_dump_flag > 0.5
             and yaw_dev * (1.0 if g == 0 else -1.0) > p.esp_yaw_dump_rate_radps):
@@ -639,7 +635,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         wheels[g, A_REQUEST] = R_DUMP
     if g >= 0 and (int(wheels[g, A_MODE]) == abs_fn.OFF or int(wheels[g, A_MODE]) == abs_fn.BUILD):
         elapsed = t - ctl[C_GMA_START]
-        # yaw toward the high-mu side (braking the left wheel yaws the car left, CCW +), beyond the steered reference
+        # yaw toward the high-mu side (braking the left wheel yaws the car left, CCW +)
         toward = yaw_dev * (1.0 if g == 0 else -1.0)
         if toward > p.esp_yaw_dump_rate_radps:
             wheels[g, A_REQUEST] = R_DUMP
@@ -741,7 +737,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # p_mc too (following it there made HBA 1.20 m longer than none, test_hba_gma_and_rebuild easing point).
             # Paper stop, 0.1 rad/s wheel-speed noise, seeds 1-10: 7 did not stop in 12 s (38-54 deg) -> 49.1-55.1 m.
             row = hba.ACTIVE
-            toward = yaw_dev * (1.0 if i == 0 else -1.0)  # beyond the steered reference (gma_yaw_reference_flag)
+            toward = yaw_dev * (1.0 if i == 0 else -1.0)
             if wheels[i, A_P_EST] < wheels[1 - i, A_P_EST] - RAMP_SETTLED_PA:
                 if (req == R_GMA_PULSE or req == R_GMA_HOLD) and toward <= p.esp_yaw_hold_rate_radps:
                     req = R_OFF  # (ACTIVE row: pump build)

@@ -123,9 +123,6 @@ class SedanEsp(Strict):
     yaw_dump_rate_deg_per_s: Annotated[float, Field(gt=0, le=180)]
     gma_hba_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: HBA pumps past the GMA)
     gma_follow_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (GMA wheel capped below the pumped other front)
-    # GMA yaw limitation on the deviation from the steered reference yaw rate (1); 0 = the code before (raw yaw rate),
-    # shipped 0: it cost never-worse points (tire_blowout_findings.md H7)
-    gma_yaw_reference_flag: Annotated[int, Field(ge=0, le=1)] = 0
     hba_rear_select_low_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = old: rears pumped with their circuit's front
     # select-low also while a wheel is only TPMS-named (compensation idle); 0 = seeded defect (off for any excluded wheel)
     hba_rear_select_low_tpms_flag: Annotated[int, Field(ge=0, le=1)] = 1
