@@ -1,21 +1,17 @@
-"""HBA and the wheel only NAMED by the TPMS before the detection (``esp.hba_named_driver_flag``, functions/esp.py;
-session 2026-11-24 h, task H5; docs/functions/tire_blowout_sessions.md status item 4).
+"""HBA and the wheel only NAMED by the TPMS before the detection (functions/esp.py; session 2026-11-24 h, task H5;
+docs/functions/tire_blowout_sessions.md status h item 4).
 
 Between the TPMS alarm (FMVSS 138: 25 % pressure drop, suv_bj2500.toml ``tpms_alarm_drop_frac``) and the wheel-speed
-detection the ESP leaves the named wheel out of its reference while the blowout compensation is still idle. Before the
-rule HBA kept pump-serving that wheel (re-build by the pump, hold with the circuit isolated) as any other wheel. The
-rule: until the detection the named wheel is on the driver's (master) pressure with plain ABS, as without HBA - the
-pump build is bounded only by ABS finding the lock level from the wheel's slip (brake_assist.md P2/P6), which a
-deflating tire of unknown rolling radius (spec tire_blowout.md 6) does not give, and the function's sequence starts at
-the detection (paper 004 P7, spec tire_blowout.md 5).
+detection the ESP leaves the named wheel out of its reference while the blowout compensation is still idle; HBA keeps
+pump-serving that wheel (re-build by the pump, hold with the circuit isolated) as any other wheel. H5's candidate (the
+named wheel on the driver's pressure with plain ABS until the detection) was shipped off - it moved a violation
+(CMA-ES 2026 #196 fixed, #176 new) - and was deleted in session j (J3) with its rule rows; the rows below check the
+shipped behaviour.
 
 References, independent of the code: the valve states of the ESP unit that mean "pump-served" (brake_assist.md P6:
 switching valve closed, high-pressure valve open, return pump on = wheel modes B/BP; the isolated hold HI) and the
-requirement tire_blowout.no_worse_than_no_compensation (the no-compensation twin). The valve rows fail with the seeded
-defect ``hba_named_driver_flag = 0`` (the code before, which is also the shipped default: the rule is a candidate
-NOT enabled - it moves violations instead of removing them, tire_blowout_findings.md "H5 (session h)"; the rule rows set it to
-1). The rule does not close status item 4 (G8's CMA-ES 2026 #168 1.815 -> 1.571 m, the twin 1.368 m); H3's braking lock
-floor does (0.398 m; the never-worse rows below)."""
+requirement tire_blowout.no_worse_than_no_compensation (the no-compensation twin). Status item 4 (G8's CMA-ES 2026 #168)
+is closed by H3's braking lock floor (0.398 m, twin 1.368 m; the never-worse rows below, with their control)."""
 from __future__ import annotations
 
 import numpy as np
@@ -26,8 +22,6 @@ from tests.support import envelope_point_metric
 from vehicle_assist.verification.envelope import load_envelope
 
 METRIC = "blowout_lateral_deviation_run_max_m"
-RULE = ("vehicle.esp.hba_named_driver_flag=1",)  # the candidate (not enabled in the shipped toml)
-DEFECT = ("vehicle.esp.hba_named_driver_flag=0",)  # the code before = the shipped default
 TPMS_ALARM_DROP_FRAC = 0.25  # FMVSS 138 low-pressure warning (suv_bj2500.toml blowout.tpms_alarm_drop_frac source)
 # wheel valve modes of the ESP unit (plant/brakes/esp_unit.py MODES order): N B HI H D BP BPM T
 PUMP_SERVED = (1, 2, 5)  # B (pump build), HI (hold, circuit isolated), BP (pulsed pump build)
@@ -66,26 +60,24 @@ def _named_window_modes(env, point, sets):
 
 
 @pytest.mark.parametrize("name", sorted(POINTS))
-@pytest.mark.parametrize("sets,pumped", [(RULE, False), (DEFECT, True)])
-def test_named_wheel_not_pump_served_before_detection(env, name, sets, pumped):
-    """While only named (compensation idle, HBA active) the named wheel is never in a pump-served valve mode; the
-    defect row (the code before) is its negative control: the named FL is re-built by the pump (BP) there."""
-    modes = _named_window_modes(env, POINTS[name], sets)
+def test_named_wheel_pump_served_as_any_wheel_before_detection(env, name):
+    """Shipped: while only named (compensation idle, HBA active) the named wheel is re-built by the pump as any wheel
+    under HBA (a pump-served valve mode occurs in the window)."""
+    modes = _named_window_modes(env, POINTS[name], ())
     assert modes.size >= 4, "the point must have a named window under HBA"
-    assert bool(np.isin(modes, PUMP_SERVED).any()) == pumped, modes.tolist()
+    assert bool(np.isin(modes, PUMP_SERVED).any()), modes.tolist()
 
 
 def test_g8_168_no_worse_than_none(env):
     """#168 is no longer worse than the twin with the shipped code, but not through the named-window rule: H3's
     braking_lock_floor_flag (merged in the same session) keeps the compensating FR below its ABS lock level (lead,
-    main e4f4f85: 0.398 m with the shipped code and with this rule, twin 1.368 m; the next row is its control)."""
+    main e4f4f85: 0.398 m with the shipped code, twin 1.368 m; the next row is its control)."""
     on = envelope_point_metric(env, C2026_168, METRIC)
     assert on <= envelope_point_metric(env, C2026_168, METRIC, baseline=True), f"{on:.3f} m"
 
 
 def test_g8_168_worse_than_none_without_the_lock_floor(env):
-    """Negative control of the row above: with H3's lock floor at 0, the named-window rule alone leaves #168 worse
-    than the twin (1.571 vs 1.368 m) - status item 4's named window is not what closes it."""
-    off = envelope_point_metric(env, C2026_168, METRIC,
-                                sets=RULE + ("vehicle.blowout_compensation.braking_lock_floor_flag=0",))
+    """Negative control of the row above: with H3's lock floor at 0 (its seeded defect) #168 is worse than the twin
+    (session h: 1.815 vs 1.368 m)."""
+    off = envelope_point_metric(env, C2026_168, METRIC, sets=("vehicle.blowout_compensation.braking_lock_floor_flag=0",))
     assert off > envelope_point_metric(env, C2026_168, METRIC, baseline=True), f"{off:.3f} m"

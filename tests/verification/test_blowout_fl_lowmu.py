@@ -22,7 +22,7 @@ are fixed, three stay and one appears (83 #27); by mechanism:
 * C - 61 #22 (FL 106 km/h, mu 0.49, 650 m curve toward FL, pedal after the detection): G2's blown-inner-front hold
   (``blown_front_hold_flag``) cycles the flat FL between released (~1 bar) and re-applied (15-37 bar) ten times as the
   yaw crosses the steered reference (tire_blowout_findings.md I3); the car drifts out 2.156 vs 1.727 m. With the hold off the
-  paper's release gives 0.555 m (I3's relay, ``blown_front_hold_band_flag`` 1: 1.979). Strict xfail + attribution.
+  paper's release gives 0.555 m (I3's relay, a candidate deleted in session j: 1.979). Strict xfail + attribution.
 * D (status h item 8, the ABS hold without a time limit; B shares it) - 61 #45 (FL 51 km/h, mu 0.32, 1000 m
   curve: steered yaw 0.8 deg/s, inside the 1 deg/s dead band, so treated as a
   straight road): the paper's release of the braked flat FL while the intact FR sits in one uninterrupted ABS hold at

@@ -330,21 +330,10 @@ S_AW_PREDUMP = S_LOCK_FALL + 1
 # slowing], both weighted with the least-squares slope's interval weights
 S_P_DUMPWIN = S_AW_PREDUMP + 1
 S_AW_DUMPWIN = S_P_DUMPWIN + 1
-# tpms_symmetric_release_flag: 1 once the other wheel of the named wheel's axle was released with it for the TPMS-path
-# confirmation (0 otherwise); after a rejection while braking that wheel is re-applied with the named one
-# (functions/esp.py, as reject_reapply_flag): the wheel (-1 none) and the ECU's line model of its pressure [Pa] (-1 =
-# not started)
-S_SYM_REL = S_AW_DUMPWIN + 1
-S_REAPPLY_O = S_SYM_REL + 1
-S_REAPPLY_OP = S_REAPPLY_O + 1
 DUMP_NOISE_SIGMAS = 3.0  # assumed (abs_dump_noise_flag): the dump reading's deceleration is taken 3 sigma of its
 #   white-noise error above the reading (one-sided Gaussian: exceeded in 0.13 % of readings by noise alone), sigma from
 #   the design wheel-speed noise blowout_compensation.abs_dump_speed_noise_radps (``dump_window_reading``)
-# blown_front_hold_band_flag: 1 while the blown inner front is let go on the yaw (the yaw rate went beyond the steered
-# reference toward the blown side by more than the closed-loop dead band), 0 = held; back to 0 once the yaw falls short
-# of the reference by more than the band (relay with the dead band as its hysteresis, ``blown_front_hold``)
-S_FH_RELEASED = S_REAPPLY_OP + 1
-STATE_SIZE = S_FH_RELEASED + 1
+STATE_SIZE = S_AW_DUMPWIN + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -399,8 +388,6 @@ def initial_state() -> np.ndarray:
     st[S_P_PREDUMP] = -1.0
     st[S_HEALTHY_S] = -1.0
     st[S_REAPPLY] = -1.0
-    st[S_REAPPLY_O] = -1.0
-    st[S_REAPPLY_OP] = -1.0
     st[S_REAR_OS_CAP] = -1.0
     st[S_MU_PRE] = -1.0
     st[S_LOCK_P] = -1.0
@@ -1242,8 +1229,6 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_R_OWN] = 0.0
             st[S_OVERSPEED_S] = 0.0
             st[S_REAPPLY] = -1.0
-            st[S_REAPPLY_O] = -1.0
-            st[S_SYM_REL] = 0.0
             st[S_PAIR_LOW] = 0.0
             # TPMS path (single source, braking): confirmation by the released wheel pending (tpms_confirm_flag)
             st[S_HEALTHY_S] = 0.0 if (sources == SRC_TPMS and braking > 0.5
@@ -1357,13 +1342,6 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             healthy = wheel_speed_mean(st, b) <= v_ref * (1.0 + p.blowout_compensation_wheel_speed_threshold_frac)
             st[S_REAPPLY] = b if (braking > 0.5 and healthy and p.blowout_compensation_reject_reapply_flag > 0.5) else -1.0
             st[S_REAPPLY_P] = -1.0
-            # (tpms_symmetric_release_flag) the other wheel of the axle, released with the named one for the
-            # confirmation, gets the driver's pressure back with it: re-applied alone, the named wheel's re-apply ended
-            # at once (its axle partner as low), both came back by ABS's pulsed re-build, and the first front to reach
-            # ABS started the split-mu GMA on the other (fa_final r11 #39, FL r650 fixed 95 km/h: 11.1 m vs 1.15 m none)
-            st[S_REAPPLY_O] = OPPOSITE[b] if (braking > 0.5 and st[S_SYM_REL] > 0.5) else -1.0
-            st[S_REAPPLY_OP] = -1.0
-            st[S_SYM_REL] = 0.0
             st[S_PAIR_LOW] = 1.0 if (st[S_REAPPLY] >= 2.0 and p.blowout_compensation_reject_pair_low_flag > 0.5) else 0.0
             mode = REJECTED
             st[S_REJECTED] = b
@@ -1534,30 +1512,6 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, requests, p, dt, v_ref)
     if p.blowout_compensation_braking_rule_flag > 0.5:
         braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref, a_y_meas, v_ref)
-    if (p.blowout_compensation_single_source_build_flag > 0.5 and tg >= 0 and st[S_HEALTHY_S] > -0.5
-            and (mode == BUILD or mode == HOLD or mode == LIMITED)):
-        # (single_source_build_flag, 0 = seeded defect = the build at once) a TPMS-path detection (TPMS alone, driver
-        # braking) is one source until the released wheel confirms it (released_wheel_healthy: its over-speed, the
-        # wheel-speed signature, S_HEALTHY_S = -1): until then the named wheel is released - the release is what lets
-        # a flat wheel show its over-speed - but the compensating wheel gets no added pressure (Q_NONE: the driver's
-        # pressure and ABS, as without the function). A false alarm's build was the unbalanced moment that kicked the
-        # yaw before the rejection (tire_blowout_findings.md H2); confirmed, the build starts (as from HOLD: to S_P_REQ / S_P_BRAKE)
-        requests[tg] = Q_NONE
-    if (p.blowout_compensation_tpms_symmetric_release_flag > 0.5 and b >= 0 and st[S_HEALTHY_S] > -0.5
-            and (mode == BUILD or mode == HOLD or mode == LIMITED)):
-        # (tpms_symmetric_release_flag, 0 = seeded defect = the named wheel alone released and the build at once) the
-        # TPMS-path confirmation release made yaw-neutral: while the released wheel's verdict is pending
-        # (released_wheel_healthy: a flat wheel freed of the brake over-speeds, a healthy one rolls at the car's
-        # speed) the other wheel of the same axle is released with it - a select-low on that axle - and no compensating
-        # wheel is built: the brake-force DIFFERENCE on one axle is what yaws the car (b*K_b*dp/R), not the release.
-        # A false alarm is then rejected by the verdict with no heading error made (fixed steering never corrects it);
-        # a confirmed flat gets the paper's build (eqs. 26-30) from the confirmation on, as from HOLD
-        o = OPPOSITE[b]
-        if tg >= 0 and tg != o:
-            requests[tg] = Q_NONE
-        requests[o] = Q_RELEASE if requests[b] == Q_RELEASE else Q_NONE
-        if requests[o] == Q_RELEASE:
-            st[S_SYM_REL] = 1.0
     return n_events
 
 
@@ -1596,7 +1550,6 @@ def blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p):
     #124 and 13 #45, 2.04 / 2.20 m vs none 1.34 / 2.00: not done)."""
     if (braking < 0.5 or b < 0 or b >= 2 or tg < 0 or tg >= 2 or tg == b
             or not (mode == BUILD or mode == HOLD or mode == LIMITED)):
-        st[S_FH_RELEASED] = 0.0  # (blown_front_hold_band_flag) a new pedal application / compensation starts held
         return
     if st[S_ABS_ACTIVE + tg] < 0.5 and not (p.blowout_compensation_braking_lock_keep_flag > 0.5
                                             and p.blowout_compensation_braking_lock_floor_flag > 0.5
@@ -1609,24 +1562,7 @@ def blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p):
     if toward_blown_side(b, r_ref) <= p.blowout_compensation_yaw_deadband_radps:
         return  # not a turn toward the blown side
     toward = toward_blown_side(b, yaw_rate)
-    if p.blowout_compensation_blown_front_hold_band_flag > 0.5:
-        # (blown_front_hold_band_flag, 0 = the code before = switched at the reference: released whenever the yaw is
-        # above it) a relay with the closed-loop dead band yaw_deadband as its hysteresis, on both sides of the
-        # reference: let go once the yaw exceeds the steered reference toward the blown side by more than the band,
-        # held again once it falls short of it by more than the band; inside the band the last decision stands (the
-        # band is this function's "no yaw deviation" everywhere else: the braking rule's share is held where it is
-        # inside it). Switched at 0, the wheel's two states - released (dumped to ~1 bar in ~0.1 s) and held (re-applied
-        # by the driver/ABS) - alternated on every swing of the yaw mode around the reference; a +0.07..+0.41 deg/s
-        # swing released the ABS-held flat front 14.8 -> 1.2 bar and the yaw went 1-2 deg/s below the reference
-        # (tire_blowout_findings.md I3: lead c2026 b200 #161). Symmetric, so the cycle stays centred on the reference (a band only
-        # above it shifted the yaw toward the blown side: r41 #328 0.868 -> 1.110 m)
-        if toward > p.blowout_compensation_yaw_deadband_radps:
-            st[S_FH_RELEASED] = 1.0
-        elif toward < -p.blowout_compensation_yaw_deadband_radps:
-            st[S_FH_RELEASED] = 0.0
-        if st[S_FH_RELEASED] > 0.5:
-            return  # yawing toward the blown side beyond the steering's demand: the release answers it
-    elif toward > 0.0:
+    if toward > 0.0:
         return  # yawing toward the blown side beyond the steering's demand: the release answers it
     requests[b] = Q_HOLD
 

@@ -105,14 +105,12 @@ ABS_LOG_CAP = 60  # ABS mode changes logged per wheel (the event buffer is share
 # controller state vector (named indices)
 C_V_REF, C_STARTED, C_IMPLAUSIBLE_S, C_SENSOR_LATCH, C_GMA_START, C_GMA_WHEEL, C_T, C_SENSOR_OK, C_ABS_OK, \
     C_HBA_AVAILABLE, C_SOURCE_C1, C_SOURCE_C2, C_GMA_BLOCK, C_PUMPED_C1, C_PUMPED_C2, C_REF_EXCLUDED, \
-    C_REF_PERSIST_S, C_BRAKED_S, C_GMA_PRE, C_NAMED_LIMITED, C_LOCK_P0, C_LOCK_P1, C_LOCK_REJ = range(23)
+    C_REF_PERSIST_S, C_BRAKED_S, C_GMA_PRE, C_LOCK_P0, C_LOCK_P1, C_LOCK_REJ = range(22)
 SRC_UNDECIDED, SRC_PUMP, SRC_DRIVER = 0.0, 1.0, 2.0  # per circuit during an assist (C_SOURCE_C1/C2)
-CTL_SIZE = 23
+CTL_SIZE = 22
 # C_LOCK_P0/1: each front's ABS lock level while the brake is on - its estimated pressure when ABS last began a dump
 # (0 none yet, -1 skip the next dump; cleared when the brake is released); read by gma_rejected_split_flag only.
 # C_LOCK_REJ = 1 + the rejected front whose lock level was reset at its rejection (gma_rejected_split_flag)
-# C_NAMED_LIMITED = 1 + the TPMS-named front whose brake the yaw limitation has held or dumped in this named window
-# (named_front_yaw_flag; 0 none): it re-builds in pulses, never by a step to the driver's pressure
 # C_GMA_PRE = 1 + the front wheel whose split-mu GMA was running when a blowout detection on the OTHER front made it
 # the compensating wheel and gma_blown_front_flag ended that GMA (0 none; gma_rejected_pre_flag); cleared with the block
 # C_BRAKED_S: time since the brake-light switch came on (0 while off)
@@ -621,14 +619,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     if not abs_allowed:
         ctl[C_GMA_WHEEL] = -1.0
     g = int(ctl[C_GMA_WHEEL])
-    # (gma_yaw_reference_flag) the GMA's yaw limitation judges the yaw rate's deviation from the driver's steered
-    # reference (reference_yaw_rate of the measured steer angle and v_ref), not the raw yaw rate: a curve's own yaw is
-    # what the driver asks for, not the split-mu brake-force difference's (H2: in a 650 m left curve at 107 km/h the
-    # raw ~5 deg/s dumped FL 29.9 -> 15.8 bar and held it ~1 s against FR at 45.7 bar, turning the car out of the curve)
-    # Shipped 0 (the raw yaw rate): on the tire-blowout envelope it cost never-worse points (tire_blowout_findings.md H7).
+    # the GMA's yaw limitation judges the RAW measured yaw rate (a curve's own yaw counts too: status h item 4; the
+    # candidate judging the deviation from the steered reference, H7, was deleted in session j - it added never-worse
+    # violations on the tire-blowout envelope, tire_blowout_findings.md H7 / J3)
     yaw_dev = meas.yaw_rate_radps
-    if p.esp_gma_yaw_reference_flag > 0.5:
-        yaw_dev = meas.yaw_rate_radps - bc.reference_yaw_rate(meas.steering_angle_rad, v_ref, p)
     if (g >= 0 and int(wheels[g, A_MODE]) == abs_fn.HOLD and 0 <= rej < 2
             and p.blowout_compensation_gma_rejected_hold_dump_flag > 0.5
             and yaw_dev * (1.0 if g == 0 else -1.0) > p.esp_yaw_dump_rate_radps):
@@ -641,7 +635,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         wheels[g, A_REQUEST] = R_DUMP
     if g >= 0 and (int(wheels[g, A_MODE]) == abs_fn.OFF or int(wheels[g, A_MODE]) == abs_fn.BUILD):
         elapsed = t - ctl[C_GMA_START]
-        # yaw toward the high-mu side (braking the left wheel yaws the car left, CCW +), beyond the steered reference
+        # yaw toward the high-mu side (braking the left wheel yaws the car left, CCW +)
         toward = yaw_dev * (1.0 if g == 0 else -1.0)
         if toward > p.esp_yaw_dump_rate_radps:
             wheels[g, A_REQUEST] = R_DUMP
@@ -655,33 +649,6 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # step to the driver's pressure: a 36 -> 179 bar step stopped the high-mu wheel within two controller
             # periods at 10 km/h (split-mu, 300 N: wheel at 0 rad/s with the car above 5 km/h, criterion 5)
             wheels[g, A_REQUEST] = R_GMA_PULSE
-
-    # (named_front_yaw_flag) the TPMS-named front's brake (named_f above): ABS cannot find its lock level from a slip it
-    # cannot read, so its brake moment is bounded by the car's response instead - the GMA's yaw limitation applied to
-    # it (hold above yaw_hold_rate, dump above yaw_dump_rate toward its side), judged on the deviation from the
-    # driver's steered reference (blowout_compensation.reference_yaw_rate: the curve's own yaw is the driver's, the
-    # excess toward the named side is its brake's). ABS's own hold/dump of it still win; once limited it re-builds in
-    # pulses (R_GMA_PULSE, as the GMA's wheel), never by a step to the driver's pressure. Paper 004 P7 / spec 5: the
-    # function's sequence starts at the detection; before it the named wheel is braked as by any ESP, whose yaw
-    # limitation must then bound a brake force ABS cannot bound. 0 = the code before (its brake bounded by ABS alone).
-    # Shipped 0, a candidate NOT enabled: on the braking front points of session h's searches it fixes RG2 43 #30
-    # (-3.308 -> +2.534 m) but adds two violations (braking 47 #1 +0.405 -> -4.719 m, a spin; random 41 #407 +0.030
-    # -> -2.014 m) - tire_blowout_findings.md "I4 (session i)".
-    if p.esp_named_front_yaw_flag > 0.5 and named_f >= 0 and abs_allowed:
-        toward_n = (meas.yaw_rate_radps - bc.reference_yaw_rate(meas.steering_angle_rad, v_ref, p)) * (
-            1.0 if named_f == 0 else -1.0)
-        req_n = int(wheels[named_f, A_REQUEST])
-        if req_n != R_DUMP and req_n != R_HOLD:
-            if toward_n > p.esp_yaw_dump_rate_radps:
-                wheels[named_f, A_REQUEST] = R_DUMP
-                ctl[C_NAMED_LIMITED] = named_f + 1.0
-            elif toward_n > p.esp_yaw_hold_rate_radps:
-                wheels[named_f, A_REQUEST] = R_GMA_HOLD
-                ctl[C_NAMED_LIMITED] = named_f + 1.0
-            elif int(ctl[C_NAMED_LIMITED]) - 1 == named_f and req_n == R_OFF:
-                wheels[named_f, A_REQUEST] = R_GMA_PULSE
-    elif named_f < 0 or not bls:
-        ctl[C_NAMED_LIMITED] = 0.0
 
     # HBA
     hba_mode = hba.INACTIVE
@@ -713,10 +680,6 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     # limit (slip beyond the hold threshold with a hold or dump) while the driver's pressure is more than 1 bar above
     # the wheel's - the driver alone reaches the ABS level. A SRC_DRIVER circuit (one switching valve, so its rear
     # wheel too) uses row A_DRIVER: plain ABS on the driver's pressure, as without HBA.
-    # (hba_named_driver_flag) a wheel only NAMED by the TPMS, not (yet) detected: the compensation IDLE - not after a
-    # rejection (a rejected false alarm stays named: acting there moved the false-alarm grid's lane exit k=664 -> k=663)
-    named_driver = (p.esp_hba_named_driver_flag > 0.5 and blown >= 0 and int(bst[bc.S_BLOWN]) < 0
-                    and int(bst[bc.S_MODE]) == bc.IDLE)
     for i in range(2):
         c = CIRCUIT[i]
         if hba_mode == hba.INACTIVE:
@@ -726,8 +689,6 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         elif ctl[C_SOURCE_C1 + c] == SRC_UNDECIDED:
             last = int(wheels[i, A_WHEEL_MODE])
             lifted = last == W_B or last == W_BP or p.esp_hba_rampout_pumped_only_flag < 0.5 or blown >= 0
-            if named_driver and i == blown:
-                lifted = False  # (hba_named_driver_flag) the named wheel stays on the driver's pressure (below)
             # (the pump lifted it: above the driver in a pump build mode; a wheel left above an easing driver's
             # pressure, or the GMA's wheel held at the driver's, is not pump-served - latching it made the
             # circuit's rear pumped on split-mu with an easing driver: CMA-ES/random seed 7 counterexamples)
@@ -764,20 +725,6 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # circuit's front wheel (pumping it while the front still rebuilt below the driver put the rear into ABS
             # cycling the car without HBA does not have)
             row = A_DRIVER
-        if named_driver and i == blown and hba_mode == hba.ACTIVE:
-            # (hba_named_driver_flag) A wheel only NAMED by the TPMS (excluded from the reference, not yet detected:
-            # the blowout compensation idle) is not pump-served: plain ABS on the driver's pressure (hold with the
-            # circuit open, re-build from the master), as without HBA. HBA's pump build is bounded only by ABS finding
-            # the lock level from the wheel's slip (brake_assist.md P2/P6), and a deflating tire's rolling radius is
-            # unknown to the ECU (spec tire_blowout.md 6, R_out -> R_in): its nominal-radius speed overstates its
-            # periphery, the slip ABS reads is short by (R_out - R_eff)/R_eff and the pump has no valid limit on it;
-            # and the function's own sequence (paper 004 P7, spec 5) starts at the detection and gives the blown
-            # wheel no pressure - pumping it above the driver before the detection works against it. Once detected
-            # the compensation's arbitration governs the wheel, as before. Status item 4 (session h, H5): NOT enabled
-            # (toml 0): it changes the named wheel's re-build source (master, not pump), not its level; on 1,053 pedal
-            # evaluations of 15 searches net -0.44 m with equal violation counts, but it MOVES a violation (CMA-ES 2026
-            # #196 fixed / #176 new, a knife edge) - tire_blowout_findings.md "H5 (session h)".
-            row = A_DRIVER
         req = int(wheels[i, A_REQUEST])
         if (row == A_DRIVER and i == gma_wheel and blown < 0 and p.esp_gma_follow_flag > 0.5
                 and ctl[C_SOURCE_C1 + CIRCUIT[i]] != SRC_DRIVER and ctl[C_SOURCE_C1 + CIRCUIT[1 - i]] == SRC_PUMP
@@ -790,7 +737,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # p_mc too (following it there made HBA 1.20 m longer than none, test_hba_gma_and_rebuild easing point).
             # Paper stop, 0.1 rad/s wheel-speed noise, seeds 1-10: 7 did not stop in 12 s (38-54 deg) -> 49.1-55.1 m.
             row = hba.ACTIVE
-            toward = yaw_dev * (1.0 if i == 0 else -1.0)  # beyond the steered reference (gma_yaw_reference_flag)
+            toward = yaw_dev * (1.0 if i == 0 else -1.0)
             if wheels[i, A_P_EST] < wheels[1 - i, A_P_EST] - RAMP_SETTLED_PA:
                 if (req == R_GMA_PULSE or req == R_GMA_HOLD) and toward <= p.esp_yaw_hold_rate_radps:
                     req = R_OFF  # (ACTIVE row: pump build)
@@ -886,24 +833,12 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # function; then (or at an ABS dump of it) ABS as usual
             if bst[bc.S_REAPPLY_P] < 0.0:
                 bst[bc.S_REAPPLY_P] = wheels[i, A_P_EST]
-            # (the axle partner re-applied with it, tpms_symmetric_release_flag: up to the driver's pressure)
-            p_to = src_i if int(bst[bc.S_REAPPLY_O]) == bc.OPPOSITE[i] else min(wheels[bc.OPPOSITE[i], A_P_EST], src_i)
+            p_to = min(wheels[bc.OPPOSITE[i], A_P_EST], src_i)
             if wm == W_D or bst[bc.S_REAPPLY_P] >= p_to - 1.0e5:
                 bst[bc.S_REAPPLY] = -1.0
             else:
                 wm = W_N
                 bst[bc.S_REAPPLY_P] += (src_i - bst[bc.S_REAPPLY_P]) * min(dt / p.esp_unit_line_time_constant_s, 1.0)
-        if abs_ok and int(bst[bc.S_REAPPLY_O]) == i and blow_req[i] == bc.Q_NONE:
-            # (tpms_symmetric_release_flag) the axle partner released with the named wheel for the TPMS-path
-            # confirmation: after the rejection the driver's pressure back at once as the named wheel (line model up to
-            # the source), then (or at an ABS dump) ABS as usual - both wheels of the axle return together
-            if bst[bc.S_REAPPLY_OP] < 0.0:
-                bst[bc.S_REAPPLY_OP] = wheels[i, A_P_EST]
-            if wm == W_D or bst[bc.S_REAPPLY_OP] >= src_i - 1.0e5:
-                bst[bc.S_REAPPLY_O] = -1.0
-            else:
-                wm = W_N
-                bst[bc.S_REAPPLY_OP] += (src_i - bst[bc.S_REAPPLY_OP]) * min(dt / p.esp_unit_line_time_constant_s, 1.0)
         if (abs_ok and i >= 2 and bst[bc.S_PAIR_LOW] > 0.5 and int(bst[bc.S_REAPPLY]) < 0
                 and wheels[i, A_P_EST] > wheels[5 - i, A_P_EST] + 1.0e5):
             # rear rejected while braking (reject_pair_low_flag), its re-apply over: select-low on the pair's pressure -
@@ -920,8 +855,6 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # (reject_pair_low_flag) the re-applied rear's estimate is the re-apply's line model, not the source W_N's
             # estimate jumps to: ABS may dump the pair before the line has filled it (35 bar of 81, 120 km/h 500 N)
             wheels[i, A_P_EST] = bst[bc.S_REAPPLY_P]
-        if i >= 2 and bst[bc.S_PAIR_LOW] > 0.5 and int(bst[bc.S_REAPPLY_O]) == i and wm == W_N:
-            wheels[i, A_P_EST] = bst[bc.S_REAPPLY_OP]  # (the partner's line model, as above)
         wheels[i, A_INLET_OPEN_S] = wheels[i, A_INLET_OPEN_S] + dt if (wm == W_B or wm == W_BP) else 0.0
     return n_events
 

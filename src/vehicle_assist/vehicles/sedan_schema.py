@@ -123,21 +123,12 @@ class SedanEsp(Strict):
     yaw_dump_rate_deg_per_s: Annotated[float, Field(gt=0, le=180)]
     gma_hba_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: HBA pumps past the GMA)
     gma_follow_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (GMA wheel capped below the pumped other front)
-    # GMA yaw limitation on the deviation from the steered reference yaw rate (1); 0 = the code before (raw yaw rate),
-    # shipped 0: it cost never-worse points (tire_blowout_findings.md H7)
-    gma_yaw_reference_flag: Annotated[int, Field(ge=0, le=1)] = 0
     hba_rear_select_low_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = old: rears pumped with their circuit's front
     # select-low also while a wheel is only TPMS-named (compensation idle); 0 = seeded defect (off for any excluded wheel)
     hba_rear_select_low_tpms_flag: Annotated[int, Field(ge=0, le=1)] = 1
-    # 1 = the TPMS-named wheel kept on the driver's pressure under HBA before the detection - a candidate NOT enabled
-    # (it moves a violation, tire_blowout_findings.md H5); 0 = the code before (shipped)
-    hba_named_driver_flag: Annotated[int, Field(ge=0, le=1)] = 0
     # a TPMS-named front (before the detection): its ABS activity does not start the GMA on the other front; 0 = the code
     # before (tire_blowout_findings.md I4)
     named_front_gma_flag: Annotated[int, Field(ge=0, le=1)] = 1
-    # 1 = a TPMS-named front's brake bounded by the GMA's yaw limitation on the steered reference - a candidate NOT
-    # enabled (it adds violations, tire_blowout_findings.md I4); 0 = the code before (shipped)
-    named_front_yaw_flag: Annotated[int, Field(ge=0, le=1)] = 0
     hba_master_rebuild_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: pump re-build undecided)
     hba_rampout_pumped_only_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: ramp-out unpumped)
     abs_signal_filter_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (#10 F2: raw-differenced wheel decel)
@@ -359,19 +350,6 @@ class SedanBlowoutCompensation(Strict):
     # assumed: design white wheel-speed noise per ESP sample [rad/s] = the envelope's upper end (tire_blowout envelope
     # wheel_speed_noise: ~0.23 rad/s from a 0.5 % tooth-pitch error, 0.3 with margin)
     abs_dump_speed_noise_radps: Annotated[float, Field(ge=0)] = 0.3
-    # a TPMS-path detection (TPMS alone, driver braking) gets no compensation build until the released wheel's over-speed
-    # confirms it (second source); only the release acts before. SHIPPED 0 (the code before): a candidate measured worse
-    single_source_build_flag: Annotated[int, Field(ge=0, le=1)] = 0
-    # blown_front_hold: the blown inner front let go once the yaw exceeds the steered reference toward it by more than
-    # the closed-loop dead band and held again once it falls short of it by more than the band, the last decision kept
-    # inside the band (relay with the dead band as its hysteresis); 0 = the code before (switched at the reference).
-    # Shipped 0: candidate (tire_blowout_findings.md I3: new violations elsewhere)
-    blown_front_hold_band_flag: Annotated[int, Field(ge=0, le=1)] = 0
-    # a TPMS-path detection's confirmation release made yaw-neutral: while the released wheel's verdict is pending the
-    # other wheel of the same axle is released with it (select-low on that axle), re-applied with it after a rejection,
-    # and the compensation build waits for the confirmation. SHIPPED 0 (the code before): a candidate that fixes the
-    # false alarms but costs the real blowouts the counter-brake for the confirmation time (tire_blowout_findings.md I8, session i)
-    tpms_symmetric_release_flag: Annotated[int, Field(ge=0, le=1)] = 0
     # esp.abs_hold_limit's time limit on the ABS hold applied to the compensating FRONT wheel while the compensation runs
     # (BUILD/HOLD/LIMITED) even with esp.abs_hold_limit_flag 0; 0 = the code before. Candidate (tire_blowout_findings.md I10)
     comp_hold_limit_flag: Annotated[int, Field(ge=0, le=1)] = 0
