@@ -138,9 +138,10 @@ class SedanEsp(Strict):
     # 1 = a TPMS-named front's brake bounded by the GMA's yaw limitation on the steered reference - a candidate NOT
     # enabled (it adds violations, tire_blowout_findings.md I4); 0 = the code before (shipped)
     named_front_yaw_flag: Annotated[int, Field(ge=0, le=1)] = 0
-    # a blown or TPMS-named REAR does not take the GMA's front wheel out of gma_hba_flag / gma_follow_flag (only a blown
-    # front does: its release is the fronts' one-sided ABS activity); 0 = the code before (tire_blowout_findings.md J4)
-    gma_rear_named_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # 2 = with a blown or TPMS-named REAR the GMA follow (gma_follow_flag) still applies to the GMA's front (only a blown
+    # front's release is the fronts' one-sided ABS activity); 1 = also gma_hba_flag's driver's-source cap - a candidate
+    # NOT shipped (moves a violation); 0 = the code before (tire_blowout_findings.md J4)
+    gma_rear_named_flag: Annotated[int, Field(ge=0, le=2)] = 2
     hba_master_rebuild_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: pump re-build undecided)
     hba_rampout_pumped_only_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: ramp-out unpumped)
     abs_signal_filter_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (#10 F2: raw-differenced wheel decel)
