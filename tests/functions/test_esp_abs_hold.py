@@ -217,3 +217,31 @@ def test_platform_hold_limit_no_worse_than_no_compensation(blowout_env, point):
     on = envelope_point_metric(blowout_env, point, "blowout_lateral_deviation_run_max_m", sets=sets)
     none = envelope_point_metric(blowout_env, point, "blowout_lateral_deviation_run_max_m", baseline=True, sets=sets)
     assert on <= none, f"{on:.3f} vs none {none:.3f}"
+
+
+# The platform rule's own safety (brief: a safety function is never worse than without it): the car WITHOUT the blowout
+# function (the envelope's twin: a blown tire, the plain ESP) must not run farther off with the hold limit than with the
+# code before. Measured (J1): it does at 292 of 1,832 search points; the two largest with a spin (I2's targeted 83 #27:
+# 0.402 -> 4.388 m, yaw 4.7 -> 62.5 deg/s - the intact FR stepped out of its 16-19 % hold regains ~2.2 kN of lateral force
+# while the select-low rear pair stays braked at its limit; lead random 11 #25: 2.762 -> 7.901 m, 9.4 -> 32.5 deg/s).
+# Strict xfail: XPASSes (fails) when both runs are the same code (shown with the flag at 0 in both) and when a fix lands.
+P83_27 = {"speed": 114.80016030528054, "mu": 0.33389217412218863, "delay": 0.32058882170162933,
+          "wheel_speed_noise": 0.0044501572580147196, "noise_seed": 9651.0, "brake_gain": 0.8285535558914343,
+          "brake.start_s": 0.794695266336418, "brake.level_frac": 0.3742311335982508,
+          "brake.rate_per_s": 16.590630763734506, "braking": "brakes", "wheel": "fl", "driver": "follow", "curve": "r1000"}
+P11_25 = {"speed": 111.00762386886916, "mu": 0.44042018662709265, "delay": 0.10839519742972453,
+          "wheel_speed_noise": 0.17340907433349825, "noise_seed": 22.0, "brake_gain": 0.8924091831770555,
+          "brake.start_s": 1.134473775196468, "brake.level_frac": 0.21207389541563373,
+          "brake.rate_per_s": 1.5496593011428454, "braking": "brakes", "wheel": "rl", "driver": "follow", "curve": "r650"}
+
+
+@pytest.mark.xfail(strict=True, reason="J1: the platform hold limit spins the car without the blowout function "
+                   "(83 #27 0.402 -> 4.388 m, r11 #25 2.762 -> 7.901 m): no yaw guard on the front step-down")
+@pytest.mark.parametrize("point", [P83_27, P11_25], ids=["targeted83_27", "random11_b32_25"])
+def test_platform_hold_limit_never_worse_for_the_car_without_the_function(blowout_env, point):
+    from tests.support import envelope_point_metric
+
+    m = "blowout_lateral_deviation_run_max_m"
+    with_rule = envelope_point_metric(blowout_env, point, m, baseline=True, sets=(f"{FLAG}=1",))
+    before = envelope_point_metric(blowout_env, point, m, baseline=True, sets=(f"{FLAG}=0",))
+    assert with_rule <= before, f"{with_rule:.3f} with the hold limit vs {before:.3f} without"
