@@ -256,31 +256,3 @@ def test_8_abs_hold_limit_on_both_cars_shrinks_the_gap(run):
     gap = _dev(run("s61_8")) - _dev(run("s61_8", baseline=True))
     gap_a = _dev(run("s61_8", sets=ABS_HOLD_LIMIT)) - _dev(run("s61_8", baseline=True, sets=ABS_HOLD_LIMIT))
     assert gap_a < gap, (gap_a, gap)
-
-
-# candidate rule (blowout_compensation.comp_hold_limit_flag, SHIPPED 0; set explicitly here): esp.abs_hold_limit on
-# the compensating FRONT while the compensation runs only - the twins keep today's ABS
-COMP_HOLD = ("vehicle.blowout_compensation.comp_hold_limit_flag=1",)
-
-
-@pytest.mark.parametrize("name", ["s61_45", "s83_27"])
-def test_comp_hold_limit_fixes_the_compensating_front_holds(run, name):
-    """D with the candidate: #45 0.437 vs 0.470 m, #27 0.189 vs 0.402 m (at 0: 0.493 / 0.461, the strict xfails)."""
-    on, none = _dev(run(name, sets=COMP_HOLD)), _dev(run(name, baseline=True))
-    assert on <= none, f"{on:.3f} m vs none {none:.3f} m"
-
-
-@pytest.mark.parametrize("name", ["s61_45", "s83_27"])
-def test_comp_hold_limit_leaves_the_twin(run, name):
-    """The candidate acts only on the wheel the compensation loads: the no-compensation twin is bitwise the same."""
-    a = np.asarray(run(name, baseline=True, sets=COMP_HOLD).trace["lane_offset_m"])
-    b = np.asarray(run(name, baseline=True).trace["lane_offset_m"])
-    assert np.array_equal(a, b)
-
-
-@pytest.mark.xfail(strict=True, reason="candidate comp_hold_limit: NEW violation 83 #9 0.407 vs none 0.290 m (0.263 at "
-                                       "0): FR out of its hold at 5-8 % slip, the yaw 0.7-1.0 deg/s vs the twin's ~2.2")
-def test_comp_hold_limit_83_9(run):
-    """Why the candidate is shipped 0: it moves a violation to 83 #9 (tire_blowout_findings.md I10)."""
-    on, none = _dev(run("s83_9", sets=COMP_HOLD)), _dev(run("s83_9", baseline=True))
-    assert on <= none, f"{on:.3f} m vs none {none:.3f} m"

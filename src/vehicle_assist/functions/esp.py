@@ -477,12 +477,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                                       p.esp_abs_hold_slip_frac, p.esp_abs_dump_decel_mps2, p.esp_abs_rebuild_decel_mps2,
                                       p.esp_abs_idle_time_s,
                                       abs_fn.TABLE, abs_guards)
-        comp_hold = (p.blowout_compensation_comp_hold_limit_flag > 0.5 and i == comp_wheel and i < 2
-                     and (int(bst[bc.S_MODE]) == bc.BUILD or int(bst[bc.S_MODE]) == bc.HOLD
-                          or int(bst[bc.S_MODE]) == bc.LIMITED))
-        if p.esp_abs_hold_limit_flag > 0.5 or comp_hold:
-            # (blowout_compensation.comp_hold_limit_flag, 0 = the code before) the hold limit also on the compensating
-            # FRONT while the compensation loads it (tire_blowout_findings.md I10), not on the other wheels nor on the twin
+        if p.esp_abs_hold_limit_flag > 0.5:
             new, stepped = abs_hold_limit(wheels, i, new, slip, p, dt)
             if stepped:
                 reason = abs_fn.G_LOCK  # a held wheel that does not re-accelerate is heading for lock (abs_hold_limit)

@@ -354,9 +354,6 @@ class SedanBlowoutCompensation(Strict):
     # assumed: design white wheel-speed noise per ESP sample [rad/s] = the envelope's upper end (tire_blowout envelope
     # wheel_speed_noise: ~0.23 rad/s from a 0.5 % tooth-pitch error, 0.3 with margin)
     abs_dump_speed_noise_radps: Annotated[float, Field(ge=0)] = 0.3
-    # esp.abs_hold_limit's time limit on the ABS hold applied to the compensating FRONT wheel while the compensation runs
-    # (BUILD/HOLD/LIMITED) even with esp.abs_hold_limit_flag 0; 0 = the code before. Candidate (tire_blowout_findings.md I10)
-    comp_hold_limit_flag: Annotated[int, Field(ge=0, le=1)] = 0
 
     @model_validator(mode="after")
     def _order(self):
