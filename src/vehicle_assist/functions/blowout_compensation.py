@@ -344,7 +344,19 @@ DUMP_NOISE_SIGMAS = 3.0  # assumed (abs_dump_noise_flag): the dump reading's dec
 # reference toward the blown side by more than the closed-loop dead band), 0 = held; back to 0 once the yaw falls short
 # of the reference by more than the band (relay with the dead band as its hysteresis, ``blown_front_hold``)
 S_FH_RELEASED = S_REAPPLY_OP + 1
-STATE_SIZE = S_FH_RELEASED + 1
+# reject_heading_return_flag (session j, J5): the yaw-rate error toward the blown side at the detection (baseline: a
+# constant gyro offset and the car's yaw error before the function acted cancel) [rad/s]; 1 while the heading the
+# rejected detection's release + build turned the car away from the named wheel is being given back (0 otherwise); that
+# heading, toward the named wheel + [rad]; the named wheel (-1 none)
+S_GB_R0 = S_FH_RELEASED + 1
+S_GB_ON = S_GB_R0 + 1
+S_GB_PSI = S_GB_ON + 1
+S_GB_B = S_GB_PSI + 1
+S_GB_Y = S_GB_B + 1  # the last yaw error toward the named wheel net of the baseline [rad/s]
+S_GB_YDOT = S_GB_Y + 1  # its derivative, first-order filtered over GB_YDOT_TAU_S [rad/s^2]
+STATE_SIZE = S_GB_YDOT + 1
+GB_YDOT_TAU_S = 0.02  # assumed (reject_heading_return_flag): the yaw acceleration filtered over 4 ESP periods (5 ms)
+GB_PREDICT = 0.0
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -401,6 +413,7 @@ def initial_state() -> np.ndarray:
     st[S_REAPPLY] = -1.0
     st[S_REAPPLY_O] = -1.0
     st[S_REAPPLY_OP] = -1.0
+    st[S_GB_B] = -1.0
     st[S_REAR_OS_CAP] = -1.0
     st[S_MU_PRE] = -1.0
     st[S_LOCK_P] = -1.0
@@ -1234,6 +1247,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_BETA_EST] = 0.0  # kinematic sideslip estimate, integrated from the detection
             st[S_BETA_DOT] = 0.0
             st[S_PSI_ERR] = 0.0
+            st[S_GB_R0] = toward_blown_side(b, yaw_rate)  # (reject_heading_return_flag) the yaw error before any action
+            st[S_GB_ON] = 0.0
             st[S_SPIN_EXITED] = 0.0
             st[S_OS_YAW_SEEN] = 0.0
             st[S_KEEP_S] = 0.0
@@ -1365,6 +1380,16 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_REAPPLY_OP] = -1.0
             st[S_SYM_REL] = 0.0
             st[S_PAIR_LOW] = 1.0 if (st[S_REAPPLY] >= 2.0 and p.blowout_compensation_reject_pair_low_flag > 0.5) else 0.0
+            # (reject_heading_return_flag) the heading the function's own release + build turned the car by, net of the
+            # yaw error it had at the detection: the integral of (yaw error - baseline) from the detection to now
+            psi_own = st[S_PSI_ERR] - st[S_GB_R0] * (t - st[S_T_DET])
+            if (p.blowout_compensation_reject_heading_return_flag > 0.5 and braking > 0.5 and healthy
+                    and psi_own < 0.0):
+                st[S_GB_ON] = 1.0
+                st[S_GB_PSI] = psi_own
+                st[S_GB_B] = b
+                st[S_GB_Y] = toward - st[S_GB_R0]
+                st[S_GB_YDOT] = 0.0
             mode = REJECTED
             st[S_REJECTED] = b
             st[S_BLOWN] = -1.0  # latch cleared: no wheel is held released any more, ABS/HBA run as without the function
@@ -1543,6 +1568,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         # pressure and ABS, as without the function). A false alarm's build was the unbalanced moment that kicked the
         # yaw before the rejection (tire_blowout_findings.md H2); confirmed, the build starts (as from HOLD: to S_P_REQ / S_P_BRAKE)
         requests[tg] = Q_NONE
+    if st[S_GB_ON] > 0.5:
+        reject_heading_return(st, mode, braking, yaw_rate, v_ref, p_est, requests, p, dt)
     if (p.blowout_compensation_tpms_symmetric_release_flag > 0.5 and b >= 0 and st[S_HEALTHY_S] > -0.5
             and (mode == BUILD or mode == HOLD or mode == LIMITED)):
         # (tpms_symmetric_release_flag, 0 = seeded defect = the named wheel alone released and the build at once) the
@@ -1559,6 +1586,58 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         if requests[o] == Q_RELEASE:
             st[S_SYM_REL] = 1.0
     return n_events
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def heading_return_wheel(b, away):
+    """(reject_heading_return_flag) The front wheel whose release turns the car back: on the side the car turned
+    toward - opposite the named wheel b if it turned away from b (``away``; a release of b and a build opposite both
+    yaw the car that way), on b's side if it turned (overshot) toward b."""
+    if away:
+        return OPPOSITE[b] if b < 2 else _substitute(b)
+    return b if b < 2 else b - 2
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def reject_heading_return(st, mode, braking, yaw_rate, v_ref, p_est, requests, p, dt):
+    """``reject_heading_return_flag`` (0 = seeded defect = the code before: after a rejected detection the heading its
+    release + build made stays). After a single-source detection of a healthy wheel is rejected while the driver brakes,
+    the function takes back the heading it turned the car by: S_GB_PSI, the integral of the yaw error toward the named
+    wheel NET of its value at the detection (a constant gyro offset and the car's own yaw error before the function
+    acted cancel) - from the detection, continued after the rejection (the braking car near its friction limit has
+    little yaw damping: the yaw rate the kick left persists, and held steering never corrects it). A heading controller
+    on that integral, acting only by RELEASING a front wheel below the driver's / ABS pressure (never above what the
+    pedal asks): the demanded yaw rate back is the heading over the 2 % settling time of the ECU's linear yaw mode
+    (``settling_time_s``: a first-order return no faster than the car's yaw mode), at most the plausibility threshold
+    abort_yaw_rate (the rate this function itself treats as a disturbance); the yaw rate is predicted one yaw-mode time
+    constant ahead (a quarter of the settling time, as front_spin_keep_arrest; derivative filtered over GB_YDOT_TAU_S)
+    because the yaw answers a release only after that lag; short of the demand by more than the closed-loop dead band
+    yaw_deadband the front wheel on the side the car turned toward is released (Q_RELEASE), beyond it by more than the
+    band the other front, inside it both are the driver's and ABS's (Q_NONE). Runs while the detection stays rejected
+    (mode REJECTED) and the pedal is on."""
+    bb = int(st[S_GB_B])
+    if mode != REJECTED or braking < 0.5 or bb < 0:
+        st[S_GB_ON] = 0.0
+        return
+    y = toward_blown_side(bb, yaw_rate) - st[S_GB_R0]
+    st[S_GB_PSI] += y * dt
+    st[S_GB_YDOT] += ((y - st[S_GB_Y]) / dt - st[S_GB_YDOT]) * min(dt / GB_YDOT_TAU_S, 1.0)
+    st[S_GB_Y] = y
+    t_s = settling_time_s(v_ref, p)
+    r_max = p.blowout_compensation_abort_yaw_rate_radps
+    y_d = min(max(-st[S_GB_PSI] / t_s, -r_max), r_max)
+    e = y + GB_PREDICT * t_s * st[S_GB_YDOT] - y_d
+    db = p.blowout_compensation_yaw_deadband_radps
+    if abs(e) <= db:
+        return
+    w = heading_return_wheel(bb, e < 0.0)
+    # the pressure difference to the other front that removes the rate error in one yaw-mode time constant
+    # (I_z*|e|/tau, eq. 28's moment-to-pressure of the front axle, ECU nominal data): released down to it, then the
+    # driver's and ABS's again (a release only: never above what the pedal asks)
+    dp = required_pressure_pa(p.body_yaw_inertia_kgm2 * abs(e) / (0.25 * t_s), p.body_wheel_radius_m,
+                              0.5 * p.chassis_front_track_m, p.brakes_front_gain_nm_per_pa)
+    if p_est[w] > p_est[OPPOSITE[w]] - dp:
+        requests[w] = Q_RELEASE
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")

@@ -375,6 +375,11 @@ class SedanBlowoutCompensation(Strict):
     # esp.abs_hold_limit's time limit on the ABS hold applied to the compensating FRONT wheel while the compensation runs
     # (BUILD/HOLD/LIMITED) even with esp.abs_hold_limit_flag 0; 0 = the code before. Candidate (tire_blowout_findings.md I10)
     comp_hold_limit_flag: Annotated[int, Field(ge=0, le=1)] = 0
+    # after a rejected single-source detection of a healthy wheel while the driver brakes, the heading the function's
+    # release + build turned the car away from the named wheel (yaw-error integral net of its value at the detection)
+    # is given back by releasing the front wheel on the side the car turned toward (never above the driver's pressure);
+    # 0 = the code before (tire_blowout_findings.md J5, session j)
+    reject_heading_return_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
