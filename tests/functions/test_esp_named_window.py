@@ -87,5 +87,5 @@ def test_g8_168_worse_than_none_without_the_lock_floor(env):
     """Negative control of the row above: with H3's lock floor at 0, the named-window rule alone leaves #168 worse
     than the twin (1.571 vs 1.368 m) - status item 4's named window is not what closes it."""
     off = envelope_point_metric(env, C2026_168, METRIC,
-                                sets=RULE + ("vehicle.blowout_compensation.braking_lock_floor_flag=0",))
+                                sets=RULE + ("vehicle.blowout_compensation.braking_lock_floor_flag=0", "vehicle.blowout_compensation.reject_heading_return_flag=0"))  # (J5: isolated)
     assert off > envelope_point_metric(env, C2026_168, METRIC, baseline=True), f"{off:.3f} m"
