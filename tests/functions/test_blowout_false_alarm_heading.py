@@ -142,12 +142,14 @@ def test_release_side_turns_the_car_back():
 
 
 def test_rule_ends_without_the_pedal_or_a_new_detection():
-    """A release only ever within what the pedal asks: pedal off (or a new detection, mode not REJECTED) ends it."""
+    """A release only ever within what the pedal asks: pedal off, a new detection (mode not REJECTED) or a stopped car
+    (below the function's minimum speed: a held car keeps its brakes - the rule once released a held front at
+    standstill, fa_nw3 #1) ends it."""
     p = _params()
-    for mode, braking in ((bc.REJECTED, 0.0), (bc.BUILD, 1.0)):
+    for mode, braking, v in ((bc.REJECTED, 0.0, 26.7), (bc.BUILD, 1.0, 26.7), (bc.REJECTED, 1.0, 0.0)):
         st = _rule_state(1, 0.0, -0.03)
         req = np.zeros(4, dtype=np.int64)
-        bc.reject_heading_return(st, mode, braking, 0.04, 26.7, np.full(4, 40.0e5), req, p, 0.005)
+        bc.reject_heading_return(st, mode, braking, 0.04, v, np.full(4, 40.0e5), req, p, 0.005)
         assert st[bc.S_GB_ON] == 0.0 and not np.any(req == bc.Q_RELEASE)
 
 

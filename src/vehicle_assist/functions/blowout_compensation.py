@@ -1609,11 +1609,14 @@ def reject_heading_return(st, mode, braking, yaw_rate, v_ref, p_est, requests, p
     ABS's (Q_NONE). The release goes down to the pressure difference to the other front whose moment removes the rate
     error in one yaw-mode time constant (a quarter of the settling time, as front_spin_keep_arrest): I_z*|e|/tau through
     eq. 28 - a proportional moment, not a full dump (a full dump of a 40 bar front limit-cycled both fronts: lead fa_cau
-    #25 speed at 5 s 11.1 vs 7.9 m/s). Runs while the detection stays rejected (mode REJECTED) and the pedal is on; a
+    #25 speed at 5 s 11.1 vs 7.9 m/s). Runs while the detection stays rejected (mode REJECTED), the pedal is on and the
+    car is above the function's minimum speed; a
     first version that ended at the heading's zero crossing left the yaw rate it had made (the car carries it: 0.62 m
     the other way)."""
     bb = int(st[S_GB_B])
-    if mode != REJECTED or braking < 0.5 or bb < 0:
+    if mode != REJECTED or braking < 0.5 or bb < 0 or v_ref < p.blowout_compensation_min_speed_mps:
+        # (and below the function's minimum speed, as BUILD/HOLD -> ENDED: the baseline is a yaw error at speed - a
+        # stopped car read -baseline and the rule released a held front 139 -> 1 bar at standstill, fa_nw3 #1)
         st[S_GB_ON] = 0.0
         return
     y = toward_blown_side(bb, yaw_rate) - st[S_GB_R0]
