@@ -635,7 +635,9 @@ def test_row_build_rejected(params):
     assert e.mode == "BUILD" and e.st[bc.S_T_VALVE] > 0.015
     e.run(0.005, tpms=1.0, braking=1.0, vw=(0.9 * V, V, V, V), p_est=(40e5, 40e5, 30e5, 30e5), yaw=-np.radians(3.0))
     assert e.rows[-1] == ("BUILD", "REJECTED", "yaw_implausible")
-    assert e.st[bc.S_BLOWN] == -1 and list(e.req) == [bc.Q_NONE] * 4
+    # (J5, session j: reject_heading_return_flag) the latch is cleared; the front on the side the car turned toward (FR,
+    # away from the named LF) is released below the driver's pressure to give the heading back
+    assert e.st[bc.S_BLOWN] == -1 and list(e.req) == [bc.Q_NONE, bc.Q_RELEASE, bc.Q_NONE, bc.Q_NONE]
 
 
 def test_rear_slip_limit_is_where_braking_starts_to_cut_lateral_force():

@@ -30,7 +30,7 @@ CMA8_10 = {"speed": 114.39976126715021, "mu": 0.4401978654716151, "brake.start_s
 CMA8_35 = {"speed": 111.77001221134172, "mu": 0.3055391651557799, "brake.start_s": 1.8567357614727662,
            "brake.level_frac": 0.2600314374392143, "brake.rate_per_s": 11.56794617397983, "braking": "brakes",
            "wheel": "fr", "driver": "fixed", "curve": "r650"}
-DEFECT = (B + "gma_rejected_flag=0",)
+DEFECT = (B + "gma_rejected_flag=0", B + "reject_heading_return_flag=0")  # (J5, session j) isolated from reject_heading_return_flag, which also rescues this defect
 
 
 @pytest.fixture(scope="module")

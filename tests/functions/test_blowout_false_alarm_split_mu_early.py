@@ -41,7 +41,8 @@ def test_the_gma_rejected_mask_is_the_cause(none_m):
     """Diagnostic (code before I12's rule, gma_rejected_split_flag = 0): without gma_rejected_flag's mask the GMA
     starts on FL and the car does not spin (2.456 m; with the mask 14.635 m): the mask, not the detection or the build."""
     S0 = B + "gma_rejected_split_flag=0"  # before I12's rule (with it the GMA starts on FL: 1.639 m)
-    assert _dev(B + "gma_rejected_flag=0", S0) < 0.5 * _dev(S0)
+    J0 = B + "reject_heading_return_flag=0"  # (J5, session j) isolated from reject_heading_return_flag, which also rescues this defect
+    assert _dev(B + "gma_rejected_flag=0", S0, J0) < 0.5 * _dev(S0, J0)
 
 
 def test_false_alarm_before_braking_on_split_mu_no_worse_than_none(none_m):
@@ -62,15 +63,16 @@ def test_mirror_fl_on_snow_no_worse_than_none():
 def test_seeded_defect_split_flag_zero_fails(none_m):
     """The same check with the rule off (gma_rejected_split_flag = 0, the code before: both fronts masked, no GMA,
     14.635 m) must fail - the check can catch the defect."""
-    assert not (_dev(B + "gma_rejected_split_flag=0") <= none_m)
+    assert not (_dev(B + "gma_rejected_split_flag=0", B + "reject_heading_return_flag=0") <= none_m)  # (J5: isolated)
 
 
-@pytest.mark.xfail(strict=True, reason="open (I12, session i): FL named on the DRY side (FR on snow), FR built and "
-                   "rejected 0.715 s: the rule starts the GMA on FL but late, FL already at its dry lock level - 2.300 m "
-                   "vs 1.888 m without the function (12.879 before the rules; 2.397 with gma_rejected_hold_dump_flag)")
 def test_dry_side_named_no_worse_than_none(none_m):
+    """Was a strict xfail (I12, session i: FL named on the DRY side, FR built and rejected 0.715 s, 2.300 m vs 1.888 m
+    without the function). Since session j (J5) reject_heading_return_flag gives back the heading the rejected
+    detection's release + build made; with that flag at 0 it is 2.300 m again (the second assert: the check can fail)."""
     dry = ['events=[{at_s=0.3, action="sensor_fault", sensor="tpms_alarm_wheel", fault="bias", bias_index=1.0}]']
     assert _dev(*dry) <= none_m
+    assert not (_dev(*dry, B + "reject_heading_return_flag=0") <= none_m)
 
 
 def _at(speed_kph, frac, *extra):
@@ -88,10 +90,12 @@ def test_faster_or_firmer_no_worse_than_none(speed_kph, frac):
 
 def test_seeded_defect_hold_dump_flag_zero_fails():
     """gma_rejected_hold_dump_flag = 0 (the code before that rule): 80 km/h pedal 0.5 is 14.626 m vs 2.211 m."""
-    assert not (_at(80, 0.5, B + "gma_rejected_hold_dump_flag=0") <= _at(80, 0.5, B + "enabled_flag=0"))
+    assert not (_at(80, 0.5, B + "gma_rejected_hold_dump_flag=0", B + "reject_heading_return_flag=0") <= _at(80, 0.5, B + "enabled_flag=0"))  # (J5)
 
 
-@pytest.mark.xfail(strict=True, reason="open (I12, session i): 100 km/h pedal 0.3, FR on snow named: 3.736 m vs 2.633 m "
-                   "without the function (15.898 m before the rules)")
 def test_100kph_pedal_03_no_worse_than_none():
-    assert _at(100, 0.3) <= _at(100, 0.3, B + "enabled_flag=0")
+    """Was a strict xfail (I12, session i: 100 km/h pedal 0.3, FR on snow named, 3.736 m vs 2.633 m without the
+    function); met since session j by reject_heading_return_flag (J5), which at 0 fails it again."""
+    none = _at(100, 0.3, B + "enabled_flag=0")
+    assert _at(100, 0.3) <= none
+    assert not (_at(100, 0.3, B + "reject_heading_return_flag=0") <= none)

@@ -104,7 +104,7 @@ def test_false_fr_alarm_in_a_left_curve_not_made_worse(radius_m, why):
     # run isolated from gma_rejected_flag (session h, H2): that rule removes the GMA the rejected FR's re-apply started on
     # FL, which is where most of this defect's loss went (with it: 650 m before G6 3.044 -> 1.593 m, the G6 defect
     # 1.544 m; 1000 m 0.567 -> 0.698, defect 0.725) - so the sense rule's own check runs on the code it was written on
-    iso = (B + "gma_rejected_flag=0",) + PEST_PIN.get(radius_m, ())
+    iso = (B + "gma_rejected_flag=0", B + "reject_heading_return_flag=0") + PEST_PIN.get(radius_m, ())  # (J5, session j) isolated from reject_heading_return_flag, which also rescues this defect
     fixed = _false_fr_alarm(iso, radius_m=radius_m)
     before_g6 = _false_fr_alarm(iso + (B + "rear_oversteer_yaw_flag=0",), radius_m)
     defect = _false_fr_alarm(iso + (B + "rear_oversteer_yaw_sense_flag=0",), radius_m)
@@ -127,7 +127,7 @@ def test_false_fr_alarm_in_a_left_curve_as_shipped_no_worse_than_none(radius_m):
 @pytest.mark.parametrize("radius_m", [650, 1000])
 def test_false_fr_alarm_as_shipped_check_fails_with_both_defects(radius_m):
     """Negative control of the check above: sense rule and gma_rejected rule both off -> worse than none."""
-    defect = _false_fr_alarm((B + "rear_oversteer_yaw_sense_flag=0", B + "gma_rejected_flag=0",
+    defect = _false_fr_alarm((B + "rear_oversteer_yaw_sense_flag=0", B + "gma_rejected_flag=0", B + "reject_heading_return_flag=0",  # (J5)
                               *PEST_PIN.get(radius_m, ())), radius_m)
     none = _false_fr_alarm((B + "enabled_flag=0",), radius_m)
     assert defect > none, (defect, none)

@@ -79,5 +79,6 @@ def test_g8_168_no_worse_than_none(env):
 def test_g8_168_worse_than_none_without_the_lock_floor(env):
     """Negative control of the row above: with H3's lock floor at 0 (its seeded defect) #168 is worse than the twin
     (session h: 1.815 vs 1.368 m)."""
-    off = envelope_point_metric(env, C2026_168, METRIC, sets=("vehicle.blowout_compensation.braking_lock_floor_flag=0",))
+    off = envelope_point_metric(env, C2026_168, METRIC, sets=("vehicle.blowout_compensation.braking_lock_floor_flag=0",
+                                      "vehicle.blowout_compensation.reject_heading_return_flag=0"))  # (J5: isolated)
     assert off > envelope_point_metric(env, C2026_168, METRIC, baseline=True), f"{off:.3f} m"

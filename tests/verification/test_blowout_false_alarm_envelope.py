@@ -93,7 +93,7 @@ def cma25(env):
     def dev(sets=(), baseline=False):
         sc = env.scenario(CMA25, baseline=baseline)
         return va.simulate(sc.with_sets(*sets) if sets else sc, requirements=False)
-    return {"on": dev(), "defect": dev((GMA_REJECTED_OFF,)), "none": dev(baseline=True)}
+    return {"on": dev(), "defect": dev((GMA_REJECTED_OFF, "vehicle.blowout_compensation.reject_heading_return_flag=0")), "none": dev(baseline=True)}
 
 
 def test_cma25_false_alarm_is_rejected_while_braking(cma25):

@@ -333,7 +333,15 @@ S_AW_DUMPWIN = S_P_DUMPWIN + 1
 DUMP_NOISE_SIGMAS = 3.0  # assumed (abs_dump_noise_flag): the dump reading's deceleration is taken 3 sigma of its
 #   white-noise error above the reading (one-sided Gaussian: exceeded in 0.13 % of readings by noise alone), sigma from
 #   the design wheel-speed noise blowout_compensation.abs_dump_speed_noise_radps (``dump_window_reading``)
-STATE_SIZE = S_AW_DUMPWIN + 1
+# reject_heading_return_flag (session j, J5): the yaw-rate error toward the blown side at the detection (baseline: a
+# constant gyro offset and the car's yaw error before the function acted cancel) [rad/s]; 1 while the heading the
+# rejected detection's release + build turned the car away from the named wheel is being given back (0 otherwise); that
+# heading, toward the named wheel + [rad]; the named wheel (-1 none)
+S_GB_R0 = S_AW_DUMPWIN + 1
+S_GB_ON = S_GB_R0 + 1
+S_GB_PSI = S_GB_ON + 1
+S_GB_B = S_GB_PSI + 1
+STATE_SIZE = S_GB_B + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -388,6 +396,7 @@ def initial_state() -> np.ndarray:
     st[S_P_PREDUMP] = -1.0
     st[S_HEALTHY_S] = -1.0
     st[S_REAPPLY] = -1.0
+    st[S_GB_B] = -1.0
     st[S_REAR_OS_CAP] = -1.0
     st[S_MU_PRE] = -1.0
     st[S_LOCK_P] = -1.0
@@ -1221,6 +1230,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_BETA_EST] = 0.0  # kinematic sideslip estimate, integrated from the detection
             st[S_BETA_DOT] = 0.0
             st[S_PSI_ERR] = 0.0
+            st[S_GB_R0] = toward_blown_side(b, yaw_rate)  # (reject_heading_return_flag) the yaw error before any action
+            st[S_GB_ON] = 0.0
             st[S_SPIN_EXITED] = 0.0
             st[S_OS_YAW_SEEN] = 0.0
             st[S_KEEP_S] = 0.0
@@ -1343,6 +1354,14 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_REAPPLY] = b if (braking > 0.5 and healthy and p.blowout_compensation_reject_reapply_flag > 0.5) else -1.0
             st[S_REAPPLY_P] = -1.0
             st[S_PAIR_LOW] = 1.0 if (st[S_REAPPLY] >= 2.0 and p.blowout_compensation_reject_pair_low_flag > 0.5) else 0.0
+            # (reject_heading_return_flag) the heading the function's own release + build turned the car by, net of the
+            # yaw error it had at the detection: the integral of (yaw error - baseline) from the detection to now
+            psi_own = st[S_PSI_ERR] - st[S_GB_R0] * (t - st[S_T_DET])
+            if (p.blowout_compensation_reject_heading_return_flag > 0.5 and braking > 0.5 and healthy
+                    and psi_own < 0.0):
+                st[S_GB_ON] = 1.0
+                st[S_GB_PSI] = psi_own
+                st[S_GB_B] = b
             mode = REJECTED
             st[S_REJECTED] = b
             st[S_BLOWN] = -1.0  # latch cleared: no wheel is held released any more, ABS/HBA run as without the function
@@ -1512,7 +1531,65 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, requests, p, dt, v_ref)
     if p.blowout_compensation_braking_rule_flag > 0.5:
         braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref, a_y_meas, v_ref)
+    if st[S_GB_ON] > 0.5:
+        reject_heading_return(st, mode, braking, yaw_rate, v_ref, p_est, requests, p, dt)
     return n_events
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def heading_return_wheel(b, away):
+    """(reject_heading_return_flag) The front wheel whose release turns the car back: on the side the car turned
+    toward - opposite the named wheel b if it turned away from b (``away``; a release of b and a build opposite both
+    yaw the car that way), on b's side if it turned (overshot) toward b."""
+    if away:
+        return OPPOSITE[b] if b < 2 else _substitute(b)
+    return b if b < 2 else b - 2
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def reject_heading_return(st, mode, braking, yaw_rate, v_ref, p_est, requests, p, dt):
+    """``reject_heading_return_flag`` (0 = seeded defect = the code before: after a rejected detection the heading its
+    release + build made stays). After a single-source detection of a healthy wheel is rejected while the driver brakes,
+    the function takes back the heading it turned the car by: S_GB_PSI, the integral of the yaw error toward the named
+    wheel NET of its value at the detection (a constant gyro offset and the car's own yaw error before the function
+    acted cancel) - from the detection, continued after the rejection (the braking car near its friction limit has
+    little yaw damping: the yaw rate the kick left persists, and held steering never corrects it). A heading controller
+    on that integral, acting only by RELEASING a front wheel below the driver's / ABS pressure (never above what the
+    pedal asks): the demanded yaw rate back is the heading over the 2 % settling time of the ECU's linear yaw mode
+    (``settling_time_s``: a first-order return no faster than the car's yaw mode), at most the plausibility threshold
+    abort_yaw_rate (the rate this function itself treats as a disturbance); short of the demand by more than the
+    closed-loop dead band yaw_deadband the front wheel on the side the car turned toward is released (Q_RELEASE), beyond
+    it by more than the band the other front (the overshoot is the rule's own), inside it both are the driver's and
+    ABS's (Q_NONE). The release goes down to the pressure difference to the other front whose moment removes the rate
+    error in one yaw-mode time constant (a quarter of the settling time, as front_spin_keep_arrest): I_z*|e|/tau through
+    eq. 28 - a proportional moment, not a full dump (a full dump of a 40 bar front limit-cycled both fronts: lead fa_cau
+    #25 speed at 5 s 11.1 vs 7.9 m/s). Runs while the detection stays rejected (mode REJECTED), the pedal is on and the
+    car is above the function's minimum speed; a
+    first version that ended at the heading's zero crossing left the yaw rate it had made (the car carries it: 0.62 m
+    the other way)."""
+    bb = int(st[S_GB_B])
+    if mode != REJECTED or braking < 0.5 or bb < 0 or v_ref < p.blowout_compensation_min_speed_mps:
+        # (and below the function's minimum speed, as BUILD/HOLD -> ENDED: the baseline is a yaw error at speed - a
+        # stopped car read -baseline and the rule released a held front 139 -> 1 bar at standstill, fa_nw3 #1)
+        st[S_GB_ON] = 0.0
+        return
+    y = toward_blown_side(bb, yaw_rate) - st[S_GB_R0]
+    st[S_GB_PSI] += y * dt
+    t_s = settling_time_s(v_ref, p)
+    r_max = p.blowout_compensation_abort_yaw_rate_radps
+    y_d = min(max(-st[S_GB_PSI] / t_s, -r_max), r_max)
+    e = y - y_d
+    db = p.blowout_compensation_yaw_deadband_radps
+    if abs(e) <= db:
+        return
+    w = heading_return_wheel(bb, e < 0.0)
+    # the pressure difference to the other front that removes the rate error in one yaw-mode time constant
+    # (I_z*|e|/tau, eq. 28's moment-to-pressure of the front axle, ECU nominal data): released down to it, then the
+    # driver's and ABS's again (a release only: never above what the pedal asks)
+    dp = required_pressure_pa(p.body_yaw_inertia_kgm2 * abs(e) / (0.25 * t_s), p.body_wheel_radius_m,
+                              0.5 * p.chassis_front_track_m, p.brakes_front_gain_nm_per_pa)
+    if p_est[w] > p_est[OPPOSITE[w]] - dp:
+        requests[w] = Q_RELEASE
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")

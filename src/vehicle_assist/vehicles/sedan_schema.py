@@ -354,6 +354,11 @@ class SedanBlowoutCompensation(Strict):
     # assumed: design white wheel-speed noise per ESP sample [rad/s] = the envelope's upper end (tire_blowout envelope
     # wheel_speed_noise: ~0.23 rad/s from a 0.5 % tooth-pitch error, 0.3 with margin)
     abs_dump_speed_noise_radps: Annotated[float, Field(ge=0)] = 0.3
+    # after a rejected single-source detection of a healthy wheel while the driver brakes, the heading the function's
+    # release + build turned the car away from the named wheel (yaw-error integral net of its value at the detection)
+    # is given back by releasing the front wheel on the side the car turned toward (never above the driver's pressure);
+    # 0 = the code before (tire_blowout_findings.md J5, session j)
+    reject_heading_return_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):

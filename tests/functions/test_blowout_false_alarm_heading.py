@@ -1,0 +1,181 @@
+"""A rejected false TPMS alarm gives back the heading its release + build made (session j, J5; tire_blowout_findings.md
+"J5 (session j)", status i item 3): ``blowout_compensation.reject_heading_return_flag``.
+
+The point: reproduce's false-alarm campaign for ``tire_blowout.no_lane_departure_caused`` (CMA-ES 2026, -n 48, batch 8;
+/tmp/lead/i/end/fa_cau) #25 - FR named, straight, 96 km/h, mu scale 0.564, fixed steering, pedal 0.327 from 1.90 s. The
+TPMS-path detection (1.955 s) released FR and built FL for 80 ms; rejected (yaw_implausible, 2.035 s) with 0.06 deg of
+heading but a yaw rate of 2.3 deg/s that the braking car (all wheels in ABS: little yaw damping) carries on; held
+steering never takes it back: 2.1 deg at 4 s, 0.991 m, 0.013 m beyond the marking, vs 0.000 m for the twin.
+
+References, independent of the rule's formulas: the twin (same car, driver, road and false alarm without the function:
+a symmetric braking car on a straight road keeps its heading - 0.000 m, 0 deg); the requirement's own comparison
+(data/requirements/tire_blowout.toml no_lane_departure_caused); the panic-stop floor 0.5 * mu_peak * g
+(tests/support.panic_stop_decel_bound); a published yaw-rate sensor offset (3.75 deg/s within life and temperature, a
+Hyundai ESP yaw-rate / lateral-g sensor specification, shop manual) - the plant's gyro has no offset, so the offset case
+is checked on the rule itself; a real blowout's runs (the rule must not act there: it is gated on a healthy wheel).
+The seeded defect is the flag at 0 (the code before)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from vehicle_assist.functions import blowout_compensation as bc
+from vehicle_assist.verification.envelope import load_envelope
+from tests.support import envelope_point_run as _run
+from tests.support import mean_decel as _decel
+from tests.support import panic_stop_decel_bound as _bound
+
+B = "vehicle.blowout_compensation."
+ON = (B + "reject_heading_return_flag=1",)
+DEFECT = (B + "reject_heading_return_flag=0",)
+EXC = "blowout_lane_exceedance_m"
+DEV = "blowout_lateral_deviation_run_max_m"
+# /tmp/lead/i/end/fa_cau/falsify.json #25 (main 2e6d25e), as the search wrote it
+FA25 = {"speed": 96.00629966134198, "mu": 0.564059797326502, "brake.start_s": 1.9022609026158666,
+        "brake.level_frac": 0.32699046767000983, "brake.rate_per_s": 9.61338028039029, "braking": "brakes",
+        "wheel": "fr", "driver": "fixed", "curve": "straight"}
+
+
+def _params():
+    import vehicle_assist as va
+    from vehicle_assist.scenarios.runner import pack_records
+
+    return pack_records([va.load_scenario("blowout_lf_60kph_paper").vehicle.flat()])[0]
+
+
+@pytest.fixture(scope="module")
+def runs():
+    env = load_envelope("tire_blowout_false_alarm")
+    return {"on": _run(env, FA25, sets=ON), "defect": _run(env, FA25, sets=DEFECT),
+            "none": _run(env, FA25, baseline=True)}
+
+
+def _events(res, to_mode):
+    return [x for x in res.events if x.machine == "blowout_compensation" and x.to_mode == to_mode]
+
+
+def test_point_is_a_rejected_false_tpms_detection(runs):
+    """The point exercises the rule: a TPMS-path detection of the healthy FR under the pedal, rejected, in both runs;
+    the twin has none."""
+    for k in ("on", "defect"):
+        assert _events(runs[k], "BUILD") and _events(runs[k], "REJECTED"), k
+    assert not [x for x in runs["none"].events if x.machine == "blowout_compensation"]
+
+
+def test_false_alarm_causes_no_lane_departure(runs):
+    """no_lane_departure_caused (issue #10 'Faults'): max(0, exc_twin) - exc >= 0. Measured 0.000 (twin 0.000); with the
+    defect 0.013 m -> fails."""
+    on, none = runs["on"].metrics[EXC], runs["none"].metrics[EXC]
+    assert max(0.0, none) - on >= 0.0, (on, none)
+    d = runs["defect"].metrics[EXC]
+    assert max(0.0, none) - d < 0.0, (d, none)  # the check can fail: the code before leaves the lane
+
+
+def test_heading_given_back(runs):
+    """The twin keeps heading 0 (symmetric braking, straight road). The rule regulates the caused heading to 0 with the
+    closed-loop dead band yaw_deadband on the yaw rate and the 2 % settling time t_s of the yaw mode as its time: what it
+    may leave is the heading the dead band's rate turns in t_s, yaw_deadband * t_s (0.84 deg at 96 km/h; from the
+    parameters, not from the run). Measured at the end of the run 0.17 deg; the defect 1.69 deg -> fails."""
+    p = _params()
+    tol = p.blowout_compensation_yaw_deadband_radps * bc.settling_time_s(FA25["speed"] / 3.6, p)
+    on = abs(float(runs["on"].to_pandas().lane_heading_error_rad.iloc[-1]))
+    dfct = abs(float(runs["defect"].to_pandas().lane_heading_error_rad.iloc[-1]))
+    none = abs(float(runs["none"].to_pandas().lane_heading_error_rad.iloc[-1]))
+    assert none < 1e-6, none
+    assert on <= tol, (math.degrees(on), math.degrees(tol))
+    assert dfct > tol, (math.degrees(dfct), math.degrees(tol))
+
+
+def test_heading_return_keeps_the_panic_stop_floor(runs):
+    """Cost: the rule only lowers a front below the pedal's pressure. The mean deceleration over the second after the
+    detection stays above half the road's friction limit (0.5 * mu_peak * g, as tests/verification/
+    test_blowout_braking_driver.py); measured 5.54 m/s^2 (code before 5.60, twin 5.92), and over the whole run after
+    the detection no less than 0.9 x the code before's (the rule's release is proportional, not a dump: a full dump
+    limit-cycled both fronts, 11.1 vs 7.9 m/s at 5 s)."""
+    t0 = _events(runs["on"], "BUILD")[0].time_s
+    assert _decel(runs["on"], t0, t0 + 1.0) >= _bound(FA25)
+    t_end = float(runs["on"].to_pandas().time_s.iloc[-1])
+    d_on, d_def = _decel(runs["on"], t0, t_end), _decel(runs["defect"], t0, t_end)
+    assert d_on >= 0.9 * d_def, (d_on, d_def)
+
+
+def _rule_state(b, r0, psi, v_mps=26.7):
+    st = bc.initial_state()
+    st[bc.S_GB_ON] = 1.0
+    st[bc.S_GB_B] = b
+    st[bc.S_GB_R0] = r0
+    st[bc.S_GB_PSI] = psi
+    return st
+
+
+@pytest.mark.parametrize("offset_deg_s", [-3.75, -1.0, 0.0, 1.0, 3.75])
+def test_gyro_offset_cancels(offset_deg_s):
+    """A constant yaw-rate sensor offset (up to the published 3.75 deg/s within life and temperature) on a car that does
+    not yaw: the baseline at the detection holds the offset (S_GB_R0 = the yaw error then), so over 3 s the caused
+    heading stays 0 and no wheel is released. The raw-rate variant of the rule (no baseline, r0 = 0: the mutant below)
+    releases a front at any offset above the dead band's share - the check can fail."""
+    p = _params()
+    off = math.radians(offset_deg_s)
+    dt = 0.005
+    p_est = np.full(4, 40.0e5)
+    for r0, expect_quiet in ((bc.toward_blown_side(1, off), True), (0.0, abs(offset_deg_s) < 1.0)):
+        st = _rule_state(1, r0, 0.0)
+        released = False
+        for _ in range(600):
+            req = np.zeros(4, dtype=np.int64)
+            bc.reject_heading_return(st, bc.REJECTED, 1.0, off, 26.7, p_est, req, p, dt)
+            released |= bool(np.any(req == bc.Q_RELEASE))
+        assert (not released) == expect_quiet, (offset_deg_s, r0, released, st[bc.S_GB_PSI])
+        if r0 != 0.0 or offset_deg_s == 0.0:
+            assert abs(st[bc.S_GB_PSI]) < 1e-12
+
+
+def test_release_side_turns_the_car_back():
+    """The rule's wheel: the kick of a rejected FR detection (FR released, FL built) turns the car LEFT (away from FR);
+    the front on the left (FL) is the one whose lower brake force turns it back (a brake-force difference on one axle
+    yaws toward the more-braked side, Rajamani 2012 ch. 8 differential braking). Overshoot (car turned toward FR): FR."""
+    assert bc.heading_return_wheel(1, True) == 0 and bc.heading_return_wheel(1, False) == 1
+    assert bc.heading_return_wheel(0, True) == 1 and bc.heading_return_wheel(0, False) == 0
+    assert bc.heading_return_wheel(2, True) == 1 and bc.heading_return_wheel(3, True) == 0  # rear named: the front
+
+
+def test_rule_ends_without_the_pedal_or_a_new_detection():
+    """A release only ever within what the pedal asks: pedal off, a new detection (mode not REJECTED) or a stopped car
+    (below the function's minimum speed: a held car keeps its brakes - the rule once released a held front at
+    standstill, fa_nw3 #1) ends it."""
+    p = _params()
+    for mode, braking, v in ((bc.REJECTED, 0.0, 26.7), (bc.BUILD, 1.0, 26.7), (bc.REJECTED, 1.0, 0.0)):
+        st = _rule_state(1, 0.0, -0.03)
+        req = np.zeros(4, dtype=np.int64)
+        bc.reject_heading_return(st, mode, braking, 0.04, v, np.full(4, 40.0e5), req, p, 0.005)
+        assert st[bc.S_GB_ON] == 0.0 and not np.any(req == bc.Q_RELEASE)
+
+
+# Real braking blowouts whose detection the function REJECTED (lead histories at main 2e6d25e, /tmp/lead/i/end): the rule
+# is gated on a wheel without the blowout's over-speed and the heading the function's own action turned; measured on all
+# 597 braking points of rb13/rb29/bb29/bb47/r41 (6 with a rejection): 0 changed. Two rows here: flag 1 == flag 0.
+REAL = {  # /tmp/lead/i/end/<set>/falsify.json history points, as the search wrote them
+    "rb13_25": {"speed": 117.03508167569677, "mu": 0.3312650161783546, "delay": 0.47259254166249653,
+                "wheel_speed_noise": 0.08510411337670154, "noise_seed": 8125.0, "brake_gain": 1.1323021370092148,
+                "brake.start_s": 0.8563756630703523, "brake.level_frac": 0.19077154406872682,
+                "brake.rate_per_s": 28.706500555938508, "braking": "brakes", "wheel": "rl", "driver": "fixed",
+                "curve": "r650"},
+    "bb47_50": {"speed": 84.82109683985217, "mu": 0.31364713561229185, "delay": 0.4090191780551486,
+                "wheel_speed_noise": 0.04067147529118753, "noise_seed": 848.0, "brake_gain": 0.9206153197869177,
+                "brake.start_s": 0.6523527713038273, "brake.level_frac": 0.42221889983891214,
+                "brake.rate_per_s": 22.963527595069994, "braking": "brakes", "wheel": "fl", "driver": "fixed",
+                "curve": "r1000"},
+}
+
+
+@pytest.mark.parametrize("name", sorted(REAL))
+def test_real_rejected_blowout_untouched(name):
+    """rb13 #25 (RL, 117 km/h, r650, the rejection re-braked the flat) and bb47 #50 (FL, 85 km/h): identical deviation
+    with the rule and without it."""
+    pt = REAL[name]
+    env = load_envelope("tire_blowout")
+    on, off = _run(env, pt, sets=ON), _run(env, pt, sets=DEFECT)
+    assert _events(on, "REJECTED")
+    assert on.metrics[DEV] == off.metrics[DEV], (on.metrics[DEV], off.metrics[DEV])
