@@ -482,7 +482,13 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         comp_hold = (p.blowout_compensation_comp_hold_limit_flag > 0.5 and i == comp_wheel and i < 2
                      and (int(bst[bc.S_MODE]) == bc.BUILD or int(bst[bc.S_MODE]) == bc.HOLD
                           or int(bst[bc.S_MODE]) == bc.LIMITED))
-        if p.esp_abs_hold_limit_flag > 0.5 or comp_hold:
+        # (blowout_compensation.rejected_hold_limit_flag, 0 = the code before) after a rejected FRONT detection the hold
+        # limit also on the rejected front (1) / on both fronts (2), not on the twin (tire_blowout_findings.md J6)
+        rej_w = int(bst[bc.S_REJECTED])
+        rej_hold = (p.blowout_compensation_rejected_hold_limit_flag > 0.5 and i < 2 and 0 <= rej_w < 2
+                    and int(bst[bc.S_MODE]) == bc.REJECTED
+                    and (i == rej_w or p.blowout_compensation_rejected_hold_limit_flag > 1.5))
+        if p.esp_abs_hold_limit_flag > 0.5 or comp_hold or rej_hold:
             # (blowout_compensation.comp_hold_limit_flag, 0 = the code before) the hold limit also on the compensating
             # FRONT while the compensation loads it (tire_blowout_findings.md I10), not on the other wheels nor on the twin
             new, stepped = abs_hold_limit(wheels, i, new, slip, p, dt)
