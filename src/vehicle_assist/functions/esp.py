@@ -483,11 +483,18 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                      and (int(bst[bc.S_MODE]) == bc.BUILD or int(bst[bc.S_MODE]) == bc.HOLD
                           or int(bst[bc.S_MODE]) == bc.LIMITED))
         # (blowout_compensation.rejected_hold_limit_flag, 0 = the code before) after a rejected FRONT detection the hold
-        # limit also on the rejected front (1) / on both fronts (2), not on the twin (tire_blowout_findings.md J6)
+        # limit also on the rejected front (1) / on both fronts (2), not on the twin (tire_blowout_findings.md J6); the
+        # function's release/build and the rejection's re-apply step put both fronts at their lock levels and an ABS hold
+        # has no time limit: in a curve the front axle then loses the curve's lateral force (false FR alarm, 650 m curve)
+        # 3 = both fronts and 4 = the rejected front only while the driver steers a curve (the steered reference yaw
+        # rate beyond yaw_deadband_deg_per_s: the front axle must carry the curve's lateral force; friction circle)
         rej_w = int(bst[bc.S_REJECTED])
-        rej_hold = (p.blowout_compensation_rejected_hold_limit_flag > 0.5 and i < 2 and 0 <= rej_w < 2
-                    and int(bst[bc.S_MODE]) == bc.REJECTED
-                    and (i == rej_w or p.blowout_compensation_rejected_hold_limit_flag > 1.5))
+        rhl = p.blowout_compensation_rejected_hold_limit_flag
+        rej_hold = (rhl > 0.5 and i < 2 and 0 <= rej_w < 2 and int(bst[bc.S_MODE]) == bc.REJECTED
+                    and (i == rej_w or (rhl > 1.5 and rhl < 3.5)))
+        if rej_hold and rhl > 2.5:
+            rej_hold = (abs(bc.reference_yaw_rate(meas.steering_angle_rad, v_ref, p))
+                        > p.blowout_compensation_yaw_deadband_radps)
         if p.esp_abs_hold_limit_flag > 0.5 or comp_hold or rej_hold:
             # (blowout_compensation.comp_hold_limit_flag, 0 = the code before) the hold limit also on the compensating
             # FRONT while the compensation loads it (tire_blowout_findings.md I10), not on the other wheels nor on the twin

@@ -375,10 +375,10 @@ class SedanBlowoutCompensation(Strict):
     # esp.abs_hold_limit's time limit on the ABS hold applied to the compensating FRONT wheel while the compensation runs
     # (BUILD/HOLD/LIMITED) even with esp.abs_hold_limit_flag 0; 0 = the code before. Candidate (tire_blowout_findings.md I10)
     comp_hold_limit_flag: Annotated[int, Field(ge=0, le=1)] = 0
-    # after a rejected FRONT detection (mode REJECTED) esp.abs_hold_limit's time limit on the ABS hold of the rejected
-    # front (1; 2 = both fronts, measured only) even with esp.abs_hold_limit_flag 0; 0 = the code before
-    # (tire_blowout_findings.md J6, session j)
-    rejected_hold_limit_flag: Annotated[int, Field(ge=0, le=2)] = 1
+    # after a rejected FRONT detection (mode REJECTED) esp.abs_hold_limit's time limit on the ABS hold of both fronts while
+    # the driver steers a curve (3, shipped), even with esp.abs_hold_limit_flag 0; measured only: 1 the rejected front,
+    # 2 both fronts (both always), 4 the rejected front in a curve; 0 = the code before (tire_blowout_findings.md J6, session j)
+    rejected_hold_limit_flag: Annotated[int, Field(ge=0, le=4)] = 3
 
     @model_validator(mode="after")
     def _order(self):
