@@ -477,7 +477,19 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                                       p.esp_abs_hold_slip_frac, p.esp_abs_dump_decel_mps2, p.esp_abs_rebuild_decel_mps2,
                                       p.esp_abs_idle_time_s,
                                       abs_fn.TABLE, abs_guards)
-        if p.esp_abs_hold_limit_flag > 0.5:
+        # (blowout_compensation.rejected_hold_limit_flag, 0 = the code before) after a rejected FRONT detection, while
+        # the driver steers a curve (the steered reference yaw rate beyond yaw_deadband_deg_per_s: the front axle must
+        # carry the curve's lateral force; friction circle), the hold limit also on both fronts, not on the twin nor the
+        # rears (tire_blowout_findings.md J6): the function's release/build and the rejection's re-apply step put both
+        # fronts at their lock levels and an ABS hold has no time limit - the front axle then lost the curve's lateral
+        # force (false FR alarm, 650 m curve). Measured, not shipped (session j, J6; values deleted): the rejected front
+        # only, or either variant also on a straight road (straight false alarms worse, fa_c2026 #16 a new violation)
+        rej_w = int(bst[bc.S_REJECTED])
+        rej_hold = (p.blowout_compensation_rejected_hold_limit_flag > 0.5 and i < 2 and 0 <= rej_w < 2
+                    and int(bst[bc.S_MODE]) == bc.REJECTED
+                    and abs(bc.reference_yaw_rate(meas.steering_angle_rad, v_ref, p))
+                    > p.blowout_compensation_yaw_deadband_radps)
+        if p.esp_abs_hold_limit_flag > 0.5 or rej_hold:
             new, stepped = abs_hold_limit(wheels, i, new, slip, p, dt)
             if stepped:
                 reason = abs_fn.G_LOCK  # a held wheel that does not re-accelerate is heading for lock (abs_hold_limit)

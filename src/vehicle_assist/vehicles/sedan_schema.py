@@ -359,6 +359,10 @@ class SedanBlowoutCompensation(Strict):
     # is given back by releasing the front wheel on the side the car turned toward (never above the driver's pressure);
     # 0 = the code before (tire_blowout_findings.md J5, session j)
     reject_heading_return_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # after a rejected FRONT detection (mode REJECTED), while the driver steers a curve, esp.abs_hold_limit's time limit
+    # on the ABS hold of both fronts, even with esp.abs_hold_limit_flag 0; 0 = the code before (tire_blowout_findings.md
+    # J6, session j)
+    rejected_hold_limit_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
