@@ -513,12 +513,23 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             wheels[i, A_BUILD_S] += dt
         if i < 2 and new == abs_fn.DUMP and mode != abs_fn.DUMP:
             # the front's lock level (gma_rejected_split_flag); -1: this dump ends the rejected front's re-apply step
-            ctl[C_LOCK_P0 + i] = wheels[i, A_P_EST] if ctl[C_LOCK_P0 + i] >= 0.0 else 0.0
+            # (esp.lock_level_line_flag, 0 = the code before = A_P_EST) read on the line-lag estimate, the pressure the
+            # wheel locked at (plant esp_unit row N: the wheel follows the source through tau_line; A_P_EST jumps to it)
+            p_lk = wheels[i, A_P_LINE] if p.esp_lock_level_line_flag > 0.5 else wheels[i, A_P_EST]
+            ctl[C_LOCK_P0 + i] = p_lk if ctl[C_LOCK_P0 + i] >= 0.0 else 0.0
         wheels[i, A_MODE] = new
         if new == abs_fn.HOLD or new == abs_fn.DUMP:
             wheels[i, A_SINCE_HD_S] = 0.0
         else:
             wheels[i, A_SINCE_HD_S] += dt
+        if (i < 2 and p.blowout_compensation_gma_rejected_split_quiet_flag > 0.5 and ctl[C_LOCK_P0 + i] > 0.0
+                and wheels[i, A_SINCE_HD_S] >= ABS_ACTIVE_WINDOW_S):
+            # (gma_rejected_split_quiet_flag, 0 = the code before = kept until the pedal is released) a front's lock
+            # level is forgotten once ABS is quiet on it (no hold or dump for 0.3 s: ABS no longer active, spec 4.3) -
+            # the rule braking_lock_floor already uses: a level found on one surface says nothing once the wheel runs
+            # below its limit, possibly on another surface (review RI4: a stale split reading starts a GMA the car
+            # without the function would not). The rejected front's skip marker (-1) is not a level and stays.
+            ctl[C_LOCK_P0 + i] = 0.0
         wheels[i, A_ABS_QUIET_S] = wheels[i, A_ABS_QUIET_S] + dt if new == abs_fn.OFF else 0.0
         wheels[i, A_REQUEST] = new  # ABS modes are requests 0..3
 
@@ -703,6 +714,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     p_est = wheels[:, A_P_EST].copy()
     for i in range(4):  # ABS active per wheel (spec 4.3) for the blowout compensation (blown_front_hold_flag)
         bst[bc.S_ABS_ACTIVE + i] = 1.0 if wheels[i, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S else 0.0
+        bst[bc.S_P_LINE + i] = wheels[i, A_P_LINE]  # (lock_level_line_flag: braking_lock_floor's estimate)
     n_events = bc.blowout_step(bst, vw_arr, v_ref_intact, 1.0 if bls else 0.0, meas.longitudinal_accel_mps2,
                                meas.yaw_rate_radps, meas.steering_angle_rad, tpms, inlet_ok, p_est, p, dt, t, m_blow,
                                events, n_events, blow_req, meas.lateral_accel_mps2, p_mc)
@@ -843,6 +855,11 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                 # 20 -> 167.8 bar step, nominal dump model); lead's bb47 #5 robustness 2: 3.593 m, 3: 4.128 m (= flag 0)
                 p_c = wheels[i, A_P_LINE] if (p.esp_pressure_estimate_line_flag > 2.5 and bst[bc.S_P_PREDUMP] > 0.0
                                               and p_t >= bst[bc.S_P_PREDUMP]) else wheels[i, A_P_EST]
+                if (p.esp_lock_level_line_flag > 0.5 and bst[bc.S_LOCK_P] > 0.0 and abs(
+                        p_t - p.blowout_compensation_braking_lock_floor_frac * bst[bc.S_LOCK_P]) < 1.0):
+                    # (lock_level_line_flag) the target is braking_lock_floor's floor, a fraction of a level stored on
+                    # the line estimate: the wheel is compared with it on that estimate too
+                    p_c = wheels[i, A_P_LINE]
                 if p_c > p_t + 1.0e5 and wheels[i, A_P_EST] > bst[bc.S_P_REQ] + 1.0e5:
                     wm = W_D  # down to the target (also against an ABS hold: less pressure is always allowed)
                 elif wm == W_H:
