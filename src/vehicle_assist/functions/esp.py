@@ -36,8 +36,9 @@ Per period:
 5. Arbitration: wheel valve mode = ``ARBITRATION[hba mode][wheel request]`` (data below).
 6. The ECU's wheel-pressure estimate (its model of the unit, nominal data) tells TERMINATING when the
    wheels are back at the driver's pressure. In mode N it takes the source at once; ``pressure_estimate_line_flag``
-   = 2 (shipped) keeps a line-lag estimate alongside (A_P_LINE) for the lock level stored at an ABS dump's start
-   (tire_blowout_findings.md I9, I11); 1 = mode N through the line lag tau_line everywhere (candidate, not enabled).
+   >= 2 keeps a line-lag estimate alongside (A_P_LINE) for the lock level stored at an ABS dump's start, 3 (shipped)
+   also compares the braking rule's ceiling on it, and ``lock_level_line_flag`` reads braking_lock_floor's and the
+   GMA's front lock levels from it (tire_blowout_findings.md I9, I11, J2).
 """
 from __future__ import annotations
 
@@ -127,8 +128,9 @@ CTL_SIZE = 23
 A_MODE, A_BUILD_S, A_VW_PREV, A_SINCE_HD_S, A_LOGGED, A_SLIP, A_DECEL, A_REQUEST, A_WHEEL_MODE, A_P_EST, \
     A_INLET_OPEN_S, A_ABS_QUIET_S, A_VALVE_QUIET_S, A_HOLD_S, A_HOLD_SUM, A_HOLD_PREV, A_P_LINE = range(17)
 WHEEL_STATE_SIZE = 17
-# A_P_LINE: the same estimate with mode N through the line lag (pressure_estimate_line_flag = 2: kept alongside A_P_EST
-# and read only where a dump's start is stored as the lock level, S_P_PREDUMP)
+# A_P_LINE: the same estimate with mode N through the line lag (pressure_estimate_line_flag >= 2: kept alongside A_P_EST
+# and read where a dump's start is stored as a lock level - S_P_PREDUMP, and with lock_level_line_flag braking_lock_floor's
+# level and C_LOCK_P0/1 - and where the wheel is compared with those levels)
 # A_HOLD_S / A_HOLD_SUM: time and slip integral of the present window of an ABS hold above the hold slip; A_HOLD_PREV:
 # the previous window's mean slip (-1: none yet) - esp.abs_hold_limit_flag, abs_hold_limit
 # A_ABS_QUIET_S: time since the wheel's ABS mode was last other than OFF (hold, dump or build); A_VALVE_QUIET_S: time
@@ -269,14 +271,16 @@ def plausible_reference(ctl, vw, braking, p, dt, a_x=0.0, abs_quiet_s=None, valv
 def _estimate(mode, p_est, p_src, dt, p, open_before_s=0.0, line=False):
     """The ECU's model of a wheel pressure (nominal unit data, spec 2 simplified model). ``open_before_s``: how
     long the inlet has already been open for a build (B/BP) before this period (accumulator dead time t0); ``line``:
-    mode N through the line lag whatever the flag says (the A_P_LINE estimate)."""
+    mode N through the line lag (the A_P_LINE estimate), else the source at once (A_P_EST)."""
     if mode == W_N:
-        if line or (p.esp_pressure_estimate_line_flag > 0.5 and p.esp_pressure_estimate_line_flag < 1.5):
-            # (pressure_estimate_line_flag) inlet open, circuit open to the master cylinder: the wheel follows the
-            # source through the line, the unit's first-order lag tau_line (the same nominal model as the W_B USV
-            # check-valve inflow and the H/BPM return flow below; plant/brakes/esp_unit.py row N), integrated exactly
-            # over the period with p_src held: p_src + (p_est - p_src)*exp(-dt/tau_line). 0 = the code before (the
-            # estimate took the source at once: a dump one period after W_N stored 167.8 bar, the wheel held 53.6)
+        if line:
+            # (A_P_LINE, pressure_estimate_line_flag >= 2) inlet open, circuit open to the master cylinder: the wheel
+            # follows the source through the line, the unit's first-order lag tau_line (the same nominal model as the W_B
+            # USV check-valve inflow and the H/BPM return flow below; plant/brakes/esp_unit.py row N), integrated exactly
+            # over the period with p_src held: p_src + (p_est - p_src)*exp(-dt/tau_line). A_P_EST takes the source at
+            # once (a dump one period after W_N stored 167.8 bar, the wheel held 53.6). Value 1 of the flag (A_P_EST
+            # through the line lag too, I9's candidate) was deleted in session j (J2): 7 shipped traces changed, 26 of
+            # the lead's h3 points worse by > 0.05 m (tire_blowout_findings.md I9)
             return p_src + (p_est - p_src) * math.exp(-dt / p.esp_unit_line_time_constant_s)
         return p_src
     if mode == W_B or mode == W_BP:
@@ -848,7 +852,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                 p_t = bst[bc.S_P_BRAKE]
                 if bst[bc.S_P_PREDUMP] > 0.0:
                     p_t = min(p_t, bst[bc.S_P_PREDUMP])
-                # (pressure_estimate_line_flag = 3, candidate, review RI4) the wheel is compared with the ceiling on the
+                # (pressure_estimate_line_flag = 3, review RI4, shipped session j) the wheel is compared with the ceiling on the
                 # estimate the ceiling was stored from (A_P_LINE at flag >= 2): at 2 a level stored from the line estimate
                 # is compared with A_P_EST, which jumped to the source in N (61.9 vs 167.8 bar after I9's step), so this
                 # 'down to the target' dump ran until A_P_EST read the 62 bar with the line estimate near 21 bar (I9's

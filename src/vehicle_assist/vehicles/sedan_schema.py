@@ -146,14 +146,14 @@ class SedanEsp(Strict):
     # candidate NOT enabled (6 blowout checks go red with it, tire_blowout_findings.md I5); 0 = the code before (shipped)
     abs_hold_limit_flag: Annotated[int, Field(ge=0, le=1)] = 0
     abs_hold_window_s: Annotated[float, Field(gt=0, le=1)] = 0.1
-    # 1 = the ECU's wheel-pressure estimate in mode N follows the source through the line lag tau_line (the unit's
-    # own model, as its W_B/H/BPM branches) instead of taking the source at once (moves never-worse points, lengthens
-    # HBA stops); 2 = that line estimate kept alongside (A_P_LINE) and read only for the lock level stored at an ABS
-    # dump's start (S_P_PREDUMP) - shipped (I11, session i); 1 is a candidate NOT enabled (tire_blowout_findings.md I9, I11);
-    # 0 = seeded defect (the code before: the lock level read the source step, 167.8 bar vs 86.4 bar in the wheel)
-    # 3 = candidate NOT shipped (review RI4): as 2, and the braking rule's re-build ceiling (S_P_PREDUMP) is compared
-    # with the line estimate it was stored from, not with A_P_EST (bb47 #5: 2 -> rob 3.593 m, 3 -> 4.128 m = flag 0)
-    pressure_estimate_line_flag: Annotated[int, Field(ge=0, le=3)] = 2
+    # 2 = the ECU's line estimate of a wheel's pressure (mode N through the line lag tau_line, the unit's own model as
+    # its W_B/H/BPM branches; A_P_LINE) kept alongside A_P_EST (which takes the source at once in N) and read for the
+    # lock level stored at an ABS dump's start (S_P_PREDUMP, I11 session i); 3 = as 2, and the braking rule's re-build
+    # ceiling is compared with the wheel on that same estimate (review RI4: at 2 the 'down to the target' dump ran on
+    # A_P_EST to ~1/3 of the level; bb47 #5 rob 3.593 -> 4.128 m) - shipped since session j (J2); 0 = seeded defect
+    # (the code before: the lock level read the source step, 167.8 bar vs 86.4 bar in the wheel). Value 1 (A_P_EST
+    # through the line lag too, I9's candidate, shipped off) deleted in session j (J2): tire_blowout_findings.md I9
+    pressure_estimate_line_flag: Literal[0, 2, 3] = 3
     # the lock levels read at an ABS dump's start by braking_lock_floor (its level and the wheel compared with it) and by
     # gma_rejected_split_flag (C_LOCK_P0/1) taken from the line-lag estimate A_P_LINE, the pressure the wheel locked at
     # (plant esp_unit row N: the wheel follows the source through tau_line); 0 = the code before (A_P_EST, which jumps
