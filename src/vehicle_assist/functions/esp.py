@@ -110,7 +110,8 @@ C_V_REF, C_STARTED, C_IMPLAUSIBLE_S, C_SENSOR_LATCH, C_GMA_START, C_GMA_WHEEL, C
 SRC_UNDECIDED, SRC_PUMP, SRC_DRIVER = 0.0, 1.0, 2.0  # per circuit during an assist (C_SOURCE_C1/C2)
 CTL_SIZE = 23
 # C_LOCK_P0/1: each front's ABS lock level while the brake is on - its estimated pressure when ABS last began a dump
-# (0 none yet, -1 skip the next dump; cleared when the brake is released); read by gma_rejected_split_flag only.
+# (A_P_LINE with lock_level_line_flag; 0 none yet, -1 skip the next dump; cleared when the brake is released and, with
+# gma_rejected_split_quiet_flag, after 0.3 s of ABS quiet on that front); read by gma_rejected_split_flag only.
 # C_LOCK_REJ = 1 + the rejected front whose lock level was reset at its rejection (gma_rejected_split_flag)
 # C_NAMED_LIMITED = 1 + the TPMS-named front whose brake the yaw limitation has held or dumped in this named window
 # (named_front_yaw_flag; 0 none): it re-builds in pulses, never by a step to the driver's pressure
