@@ -2,7 +2,7 @@
 the line estimate A_P_LINE but compares the wheel with it on A_P_EST, which jumps to the source in mode N (I9). The
 lead's braking search bb47 #5 (FR blown 75 km/h mu 0.325, brakes) lost 0.535 m of robustness from flag 0 to flag 2
 (tire_blowout_findings.md I11: 4.128 -> 3.593 m). Flag 3 compares on the estimate the ceiling was stored from -
-shipped since session j (J2; findings 'J2 (session j)': 4 other points lose 0.11-0.16 m against 2, none a violation).
+measured in session j (J2, findings 'J2 (session j)') and NOT shipped: I10's s83_9 goes 0.283 -> 0.349 m (none 0.290).
 
 Criterion (project rule for a fix: no point worse by more than 0.05 m than the code before, here flag 0 = before I11);
 reference: the same car without the function (robustness = none - with)."""

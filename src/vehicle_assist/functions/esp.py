@@ -36,8 +36,8 @@ Per period:
 5. Arbitration: wheel valve mode = ``ARBITRATION[hba mode][wheel request]`` (data below).
 6. The ECU's wheel-pressure estimate (its model of the unit, nominal data) tells TERMINATING when the
    wheels are back at the driver's pressure. In mode N it takes the source at once; ``pressure_estimate_line_flag``
-   >= 2 keeps a line-lag estimate alongside (A_P_LINE) for the lock level stored at an ABS dump's start, 3 (shipped)
-   also compares the braking rule's ceiling on it, and ``lock_level_line_flag`` reads braking_lock_floor's and the
+   >= 2 (2 shipped) keeps a line-lag estimate alongside (A_P_LINE) for the lock level stored at an ABS dump's start, 3
+   (candidate, not shipped) also compares the braking rule's ceiling on it, and ``lock_level_line_flag`` reads braking_lock_floor's and the
    GMA's front lock levels from it (tire_blowout_findings.md I9, I11, J2).
 """
 from __future__ import annotations
@@ -853,7 +853,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                 p_t = bst[bc.S_P_BRAKE]
                 if bst[bc.S_P_PREDUMP] > 0.0:
                     p_t = min(p_t, bst[bc.S_P_PREDUMP])
-                # (pressure_estimate_line_flag = 3, review RI4, shipped session j) the wheel is compared with the ceiling on the
+                # (pressure_estimate_line_flag = 3, candidate, review RI4; not shipped, J2) the wheel is compared with the ceiling on the
                 # estimate the ceiling was stored from (A_P_LINE at flag >= 2): at 2 a level stored from the line estimate
                 # is compared with A_P_EST, which jumped to the source in N (61.9 vs 167.8 bar after I9's step), so this
                 # 'down to the target' dump ran until A_P_EST read the 62 bar with the line estimate near 21 bar (I9's

@@ -150,10 +150,11 @@ class SedanEsp(Strict):
     # its W_B/H/BPM branches; A_P_LINE) kept alongside A_P_EST (which takes the source at once in N) and read for the
     # lock level stored at an ABS dump's start (S_P_PREDUMP, I11 session i); 3 = as 2, and the braking rule's re-build
     # ceiling is compared with the wheel on that same estimate (review RI4: at 2 the 'down to the target' dump ran on
-    # A_P_EST to ~1/3 of the level; bb47 #5 rob 3.593 -> 4.128 m) - shipped since session j (J2); 0 = seeded defect
+    # A_P_EST to ~1/3 of the level; bb47 #5 rob 3.593 -> 4.128 m) - candidate NOT shipped (J2, session j: I10's FL
+    # low-mu point s83_9 0.283 -> 0.349 m vs none 0.290); 2 shipped (I11); 0 = seeded defect
     # (the code before: the lock level read the source step, 167.8 bar vs 86.4 bar in the wheel). Value 1 (A_P_EST
     # through the line lag too, I9's candidate, shipped off) deleted in session j (J2): tire_blowout_findings.md I9
-    pressure_estimate_line_flag: Literal[0, 2, 3] = 3
+    pressure_estimate_line_flag: Literal[0, 2, 3] = 2
     # the lock levels read at an ABS dump's start by braking_lock_floor (its level and the wheel compared with it) and by
     # gma_rejected_split_flag (C_LOCK_P0/1) taken from the line-lag estimate A_P_LINE, the pressure the wheel locked at
     # (plant esp_unit row N: the wheel follows the source through tau_line); 0 = the code before (A_P_EST, which jumps
