@@ -1,7 +1,8 @@
 """Review RI4 (session i): pressure_estimate_line_flag = 2 stores the braking rule's re-build ceiling S_P_PREDUMP from
 the line estimate A_P_LINE but compares the wheel with it on A_P_EST, which jumps to the source in mode N (I9). The
 lead's braking search bb47 #5 (FR blown 75 km/h mu 0.325, brakes) lost 0.535 m of robustness from flag 0 to flag 2
-(tire_blowout_findings.md I11: 4.128 -> 3.593 m). Candidate flag 3 compares on the estimate the ceiling was stored from.
+(tire_blowout_findings.md I11: 4.128 -> 3.593 m). Flag 3 compares on the estimate the ceiling was stored from -
+measured in session j (J2, findings 'J2 (session j)') and NOT shipped: I10's s83_9 goes 0.283 -> 0.349 m (none 0.290).
 
 Criterion (project rule for a fix: no point worse by more than 0.05 m than the code before, here flag 0 = before I11);
 reference: the same car without the function (robustness = none - with)."""

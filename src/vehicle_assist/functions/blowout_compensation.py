@@ -341,7 +341,10 @@ S_GB_R0 = S_AW_DUMPWIN + 1
 S_GB_ON = S_GB_R0 + 1
 S_GB_PSI = S_GB_ON + 1
 S_GB_B = S_GB_PSI + 1
-STATE_SIZE = S_GB_B + 1
+# (esp.lock_level_line_flag) the ECU's line-lag wheel-pressure estimate A_P_LINE [Pa], 4 slots fl fr rl rr, written by
+# functions/esp.py before blowout_step as S_ABS_ACTIVE: braking_lock_floor stores and compares its lock level on it
+S_P_LINE = S_GB_B + 1
+STATE_SIZE = S_P_LINE + 4
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -1914,7 +1917,10 @@ def braking_lock_floor(st, tg, p_bal, p_est, p):
     does not hold; on a straight road or with the blown wheel on the outside the paper's release stands and so does its
     balance (measured, tire_blowout_findings.md H3: the floor everywhere made 18 of 245 braking front points of session g's
     searches worse by 0.05-0.40 m, 15 of them straight-road or outer-front points, none a violation; restricted: 3)."""
-    p_now = p_est[tg]
+    # (esp.lock_level_line_flag, 0 = the code before = A_P_EST) the level and the wheel compared with it on ONE estimate,
+    # the line-lag one (A_P_LINE): the plant's wheel follows the source through the line lag tau_line (esp_unit row N),
+    # while A_P_EST takes the source at once in N - a dump right after N stored the source, not the locking pressure
+    p_now = st[S_P_LINE + tg] if p.esp_lock_level_line_flag > 0.5 else p_est[tg]
     p_prev = st[S_LOCK_PREV]
     keep = p.blowout_compensation_braking_lock_keep_flag > 0.5
     held = st[S_LOCK_P] > 0.0 and p_now <= p.blowout_compensation_braking_lock_floor_frac * st[S_LOCK_P] + 1.0e5

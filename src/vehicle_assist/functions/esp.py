@@ -36,8 +36,9 @@ Per period:
 5. Arbitration: wheel valve mode = ``ARBITRATION[hba mode][wheel request]`` (data below).
 6. The ECU's wheel-pressure estimate (its model of the unit, nominal data) tells TERMINATING when the
    wheels are back at the driver's pressure. In mode N it takes the source at once; ``pressure_estimate_line_flag``
-   = 2 (shipped) keeps a line-lag estimate alongside (A_P_LINE) for the lock level stored at an ABS dump's start
-   (tire_blowout_findings.md I9, I11); 1 = mode N through the line lag tau_line everywhere (candidate, not enabled).
+   >= 2 (2 shipped) keeps a line-lag estimate alongside (A_P_LINE) for the lock level stored at an ABS dump's start, 3
+   (candidate, not shipped) also compares the braking rule's ceiling on it, and ``lock_level_line_flag`` reads braking_lock_floor's and the
+   GMA's front lock levels from it (tire_blowout_findings.md I9, I11, J2).
 """
 from __future__ import annotations
 
@@ -109,7 +110,8 @@ C_V_REF, C_STARTED, C_IMPLAUSIBLE_S, C_SENSOR_LATCH, C_GMA_START, C_GMA_WHEEL, C
 SRC_UNDECIDED, SRC_PUMP, SRC_DRIVER = 0.0, 1.0, 2.0  # per circuit during an assist (C_SOURCE_C1/C2)
 CTL_SIZE = 22
 # C_LOCK_P0/1: each front's ABS lock level while the brake is on - its estimated pressure when ABS last began a dump
-# (0 none yet, -1 skip the next dump; cleared when the brake is released); read by gma_rejected_split_flag only.
+# (A_P_LINE with lock_level_line_flag; 0 none yet, -1 skip the next dump; cleared when the brake is released and, with
+# gma_rejected_split_quiet_flag, after 0.3 s of ABS quiet on that front); read by gma_rejected_split_flag only.
 # C_LOCK_REJ = 1 + the rejected front whose lock level was reset at its rejection (gma_rejected_split_flag)
 # C_GMA_PRE = 1 + the front wheel whose split-mu GMA was running when a blowout detection on the OTHER front made it
 # the compensating wheel and gma_blown_front_flag ended that GMA (0 none; gma_rejected_pre_flag); cleared with the block
@@ -125,8 +127,9 @@ CTL_SIZE = 22
 A_MODE, A_BUILD_S, A_VW_PREV, A_SINCE_HD_S, A_LOGGED, A_SLIP, A_DECEL, A_REQUEST, A_WHEEL_MODE, A_P_EST, \
     A_INLET_OPEN_S, A_ABS_QUIET_S, A_VALVE_QUIET_S, A_HOLD_S, A_HOLD_SUM, A_HOLD_PREV, A_P_LINE = range(17)
 WHEEL_STATE_SIZE = 17
-# A_P_LINE: the same estimate with mode N through the line lag (pressure_estimate_line_flag = 2: kept alongside A_P_EST
-# and read only where a dump's start is stored as the lock level, S_P_PREDUMP)
+# A_P_LINE: the same estimate with mode N through the line lag (pressure_estimate_line_flag >= 2: kept alongside A_P_EST
+# and read where a dump's start is stored as a lock level - S_P_PREDUMP, and with lock_level_line_flag braking_lock_floor's
+# level and C_LOCK_P0/1 - and where the wheel is compared with those levels)
 # A_HOLD_S / A_HOLD_SUM: time and slip integral of the present window of an ABS hold above the hold slip; A_HOLD_PREV:
 # the previous window's mean slip (-1: none yet) - esp.abs_hold_limit_flag, abs_hold_limit
 # A_ABS_QUIET_S: time since the wheel's ABS mode was last other than OFF (hold, dump or build); A_VALVE_QUIET_S: time
@@ -267,14 +270,16 @@ def plausible_reference(ctl, vw, braking, p, dt, a_x=0.0, abs_quiet_s=None, valv
 def _estimate(mode, p_est, p_src, dt, p, open_before_s=0.0, line=False):
     """The ECU's model of a wheel pressure (nominal unit data, spec 2 simplified model). ``open_before_s``: how
     long the inlet has already been open for a build (B/BP) before this period (accumulator dead time t0); ``line``:
-    mode N through the line lag whatever the flag says (the A_P_LINE estimate)."""
+    mode N through the line lag (the A_P_LINE estimate), else the source at once (A_P_EST)."""
     if mode == W_N:
-        if line or (p.esp_pressure_estimate_line_flag > 0.5 and p.esp_pressure_estimate_line_flag < 1.5):
-            # (pressure_estimate_line_flag) inlet open, circuit open to the master cylinder: the wheel follows the
-            # source through the line, the unit's first-order lag tau_line (the same nominal model as the W_B USV
-            # check-valve inflow and the H/BPM return flow below; plant/brakes/esp_unit.py row N), integrated exactly
-            # over the period with p_src held: p_src + (p_est - p_src)*exp(-dt/tau_line). 0 = the code before (the
-            # estimate took the source at once: a dump one period after W_N stored 167.8 bar, the wheel held 53.6)
+        if line:
+            # (A_P_LINE, pressure_estimate_line_flag >= 2) inlet open, circuit open to the master cylinder: the wheel
+            # follows the source through the line, the unit's first-order lag tau_line (the same nominal model as the W_B
+            # USV check-valve inflow and the H/BPM return flow below; plant/brakes/esp_unit.py row N), integrated exactly
+            # over the period with p_src held: p_src + (p_est - p_src)*exp(-dt/tau_line). A_P_EST takes the source at
+            # once (a dump one period after W_N stored 167.8 bar, the wheel held 53.6). Value 1 of the flag (A_P_EST
+            # through the line lag too, I9's candidate) was deleted in session j (J2): 7 shipped traces changed, 26 of
+            # the lead's h3 points worse by > 0.05 m (tire_blowout_findings.md I9)
             return p_src + (p_est - p_src) * math.exp(-dt / p.esp_unit_line_time_constant_s)
         return p_src
     if mode == W_B or mode == W_BP:
@@ -518,12 +523,23 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             wheels[i, A_BUILD_S] += dt
         if i < 2 and new == abs_fn.DUMP and mode != abs_fn.DUMP:
             # the front's lock level (gma_rejected_split_flag); -1: this dump ends the rejected front's re-apply step
-            ctl[C_LOCK_P0 + i] = wheels[i, A_P_EST] if ctl[C_LOCK_P0 + i] >= 0.0 else 0.0
+            # (esp.lock_level_line_flag, 0 = the code before = A_P_EST) read on the line-lag estimate, the pressure the
+            # wheel locked at (plant esp_unit row N: the wheel follows the source through tau_line; A_P_EST jumps to it)
+            p_lk = wheels[i, A_P_LINE] if p.esp_lock_level_line_flag > 0.5 else wheels[i, A_P_EST]
+            ctl[C_LOCK_P0 + i] = p_lk if ctl[C_LOCK_P0 + i] >= 0.0 else 0.0
         wheels[i, A_MODE] = new
         if new == abs_fn.HOLD or new == abs_fn.DUMP:
             wheels[i, A_SINCE_HD_S] = 0.0
         else:
             wheels[i, A_SINCE_HD_S] += dt
+        if (i < 2 and p.blowout_compensation_gma_rejected_split_quiet_flag > 0.5 and ctl[C_LOCK_P0 + i] > 0.0
+                and wheels[i, A_SINCE_HD_S] >= ABS_ACTIVE_WINDOW_S):
+            # (gma_rejected_split_quiet_flag, 0 = the code before = kept until the pedal is released) a front's lock
+            # level is forgotten once ABS is quiet on it (no hold or dump for 0.3 s: ABS no longer active, spec 4.3) -
+            # the rule braking_lock_floor already uses: a level found on one surface says nothing once the wheel runs
+            # below its limit, possibly on another surface (review RI4: a stale split reading starts a GMA the car
+            # without the function would not). The rejected front's skip marker (-1) is not a level and stays.
+            ctl[C_LOCK_P0 + i] = 0.0
         wheels[i, A_ABS_QUIET_S] = wheels[i, A_ABS_QUIET_S] + dt if new == abs_fn.OFF else 0.0
         wheels[i, A_REQUEST] = new  # ABS modes are requests 0..3
 
@@ -677,6 +693,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     p_est = wheels[:, A_P_EST].copy()
     for i in range(4):  # ABS active per wheel (spec 4.3) for the blowout compensation (blown_front_hold_flag)
         bst[bc.S_ABS_ACTIVE + i] = 1.0 if wheels[i, A_SINCE_HD_S] < ABS_ACTIVE_WINDOW_S else 0.0
+        bst[bc.S_P_LINE + i] = wheels[i, A_P_LINE]  # (lock_level_line_flag: braking_lock_floor's estimate)
     n_events = bc.blowout_step(bst, vw_arr, v_ref_intact, 1.0 if bls else 0.0, meas.longitudinal_accel_mps2,
                                meas.yaw_rate_radps, meas.steering_angle_rad, tpms, inlet_ok, p_est, p, dt, t, m_blow,
                                events, n_events, blow_req, meas.lateral_accel_mps2, p_mc)
@@ -804,13 +821,18 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                 p_t = bst[bc.S_P_BRAKE]
                 if bst[bc.S_P_PREDUMP] > 0.0:
                     p_t = min(p_t, bst[bc.S_P_PREDUMP])
-                # (pressure_estimate_line_flag = 3, candidate, review RI4) the wheel is compared with the ceiling on the
+                # (pressure_estimate_line_flag = 3, candidate, review RI4; not shipped, J2) the wheel is compared with the ceiling on the
                 # estimate the ceiling was stored from (A_P_LINE at flag >= 2): at 2 a level stored from the line estimate
                 # is compared with A_P_EST, which jumped to the source in N (61.9 vs 167.8 bar after I9's step), so this
                 # 'down to the target' dump ran until A_P_EST read the 62 bar with the line estimate near 21 bar (I9's
                 # 20 -> 167.8 bar step, nominal dump model); lead's bb47 #5 robustness 2: 3.593 m, 3: 4.128 m (= flag 0)
                 p_c = wheels[i, A_P_LINE] if (p.esp_pressure_estimate_line_flag > 2.5 and bst[bc.S_P_PREDUMP] > 0.0
                                               and p_t >= bst[bc.S_P_PREDUMP]) else wheels[i, A_P_EST]
+                if (p.esp_lock_level_line_flag > 0.5 and bst[bc.S_LOCK_P] > 0.0 and abs(
+                        p_t - p.blowout_compensation_braking_lock_floor_frac * bst[bc.S_LOCK_P]) < 1.0):
+                    # (lock_level_line_flag) the target is braking_lock_floor's floor, a fraction of a level stored on
+                    # the line estimate: the wheel is compared with it on that estimate too
+                    p_c = wheels[i, A_P_LINE]
                 if p_c > p_t + 1.0e5 and wheels[i, A_P_EST] > bst[bc.S_P_REQ] + 1.0e5:
                     wm = W_D  # down to the target (also against an ABS hold: less pressure is always allowed)
                 elif wm == W_H:

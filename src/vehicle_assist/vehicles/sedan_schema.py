@@ -141,14 +141,20 @@ class SedanEsp(Strict):
     # candidate NOT enabled (6 blowout checks go red with it, tire_blowout_findings.md I5); 0 = the code before (shipped)
     abs_hold_limit_flag: Annotated[int, Field(ge=0, le=1)] = 0
     abs_hold_window_s: Annotated[float, Field(gt=0, le=1)] = 0.1
-    # 1 = the ECU's wheel-pressure estimate in mode N follows the source through the line lag tau_line (the unit's
-    # own model, as its W_B/H/BPM branches) instead of taking the source at once (moves never-worse points, lengthens
-    # HBA stops); 2 = that line estimate kept alongside (A_P_LINE) and read only for the lock level stored at an ABS
-    # dump's start (S_P_PREDUMP) - shipped (I11, session i); 1 is a candidate NOT enabled (tire_blowout_findings.md I9, I11);
-    # 0 = seeded defect (the code before: the lock level read the source step, 167.8 bar vs 86.4 bar in the wheel)
-    # 3 = candidate NOT shipped (review RI4): as 2, and the braking rule's re-build ceiling (S_P_PREDUMP) is compared
-    # with the line estimate it was stored from, not with A_P_EST (bb47 #5: 2 -> rob 3.593 m, 3 -> 4.128 m = flag 0)
-    pressure_estimate_line_flag: Annotated[int, Field(ge=0, le=3)] = 2
+    # 2 = the ECU's line estimate of a wheel's pressure (mode N through the line lag tau_line, the unit's own model as
+    # its W_B/H/BPM branches; A_P_LINE) kept alongside A_P_EST (which takes the source at once in N) and read for the
+    # lock level stored at an ABS dump's start (S_P_PREDUMP, I11 session i); 3 = as 2, and the braking rule's re-build
+    # ceiling is compared with the wheel on that same estimate (review RI4: at 2 the 'down to the target' dump ran on
+    # A_P_EST to ~1/3 of the level; bb47 #5 rob 3.593 -> 4.128 m) - candidate NOT shipped (J2, session j: I10's FL
+    # low-mu point s83_9 0.283 -> 0.349 m vs none 0.290); 2 shipped (I11); 0 = seeded defect
+    # (the code before: the lock level read the source step, 167.8 bar vs 86.4 bar in the wheel). Value 1 (A_P_EST
+    # through the line lag too, I9's candidate, shipped off) deleted in session j (J2): tire_blowout_findings.md I9
+    pressure_estimate_line_flag: Literal[0, 2, 3] = 2
+    # the lock levels read at an ABS dump's start by braking_lock_floor (its level and the wheel compared with it) and by
+    # gma_rejected_split_flag (C_LOCK_P0/1) taken from the line-lag estimate A_P_LINE, the pressure the wheel locked at
+    # (plant esp_unit row N: the wheel follows the source through tau_line); 0 = the code before (A_P_EST, which jumps
+    # to the source in N), session j J2
+    lock_level_line_flag: Annotated[int, Field(ge=0, le=1)] = 1
     abs_hold_slip_rise_frac: Annotated[float, Field(ge=0, lt=1)] = 0.005
     reference_decel_margin_mps2: Annotated[float, Field(ge=0, le=10)]
     # wheel-signal plausibility of the reference speed (implausibly fast wheel left out); 0 = defect (max of the four)
@@ -296,6 +302,9 @@ class SedanBlowoutCompensation(Strict):
     # most half the other's (UN R13-H Annex 6 split surface k_H/k_L >= 2) counts again, so the GMA starts on the
     # high-mu front; 0 = seeded defect (both masked until the block ends: no GMA, RI1 14.635 m vs 1.888 none)
     gma_rejected_split_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # gma_rejected_split_flag's front lock levels forgotten once ABS is quiet on that front 0.3 s (no hold or dump:
+    # not ABS-active, brake_assist.md 4.3, as braking_lock_floor); 0 = the code before (kept until the pedal is off)
+    gma_rejected_split_quiet_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # after a front rejection the GMA's yaw dump (yaw beyond esp yaw_dump_rate toward the GMA wheel's side) outranks
     # that wheel's ABS hold; 0 = seeded defect (the yaw limitation waits for the hold to end: FL held 48 bar, 15.9 m)
     gma_rejected_hold_dump_flag: Annotated[int, Field(ge=0, le=1)] = 1
