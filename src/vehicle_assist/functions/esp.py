@@ -732,17 +732,17 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     gma_wheel = int(ctl[C_GMA_WHEEL])
     # (gma_rear_named_flag, 0 = the code before = any known or suspected blown wheel) that premise holds for a blown
     # FRONT only: the GMA judges the FRONT axle's one-sided ABS activity (the rears are select-low), so a blown or
-    # TPMS-named REAR releases no front and the fronts' split-mu evidence stands. 2 (shipped): the GMA follow applies as
+    # TPMS-named REAR releases no front and the fronts' split-mu evidence stands. 1 (shipped): the GMA follow applies as
     # without the function - the GMA limits the DIFFERENCE of the fronts' pressures, so once the pump lifted the other
     # front above the driver's the GMA's wheel is pumped up to it - while the wheel otherwise keeps the row the code
     # before gave it. With a REAR named the GMA's wheel stayed in the HBA row, where its one-period pump pulses
     # (gma_pulse_s 5 ms) are shorter than the accumulator inlet's dead time t0 (15 ms, spec tire_blowout.md 7): nothing
     # flowed, the GMA's 'pulse build' was a 1-s hold - bb29 #69 (RR, straight, 79 km/h, mu .44, HBA) FL 27.4 bar for
-    # 1.0 s against the twin's 28 -> 47 bar, 1.389 m vs 1.210 m (2: 0.878 m). 1 (a candidate NOT shipped): also
-    # gma_hba_flag's driver's-source cap for a named rear - #69 0.887 m, but random 31 #9 (RL, oversteering, panic
-    # pedal) +6.256 -> -0.719 m: the capped outer FR rebuilt from the master, the car spun (findings J4)
-    gma_blown = blown if (blown < 2 or p.esp_gma_rear_named_flag < 0.5 or p.esp_gma_rear_named_flag > 1.5) else -1
-    follow_blown = -1 if (blown >= 2 and p.esp_gma_rear_named_flag > 1.5) else gma_blown
+    # 1.0 s against the twin's 28 -> 47 bar, 1.389 m vs 1.210 m (1: 0.878 m). (J4 also measured gma_hba_flag's
+    # driver's-source cap for a named rear - #69 0.887 m, but random 31 #9 (RL, oversteering, panic pedal) +6.256 ->
+    # -0.719 m: the capped outer FR rebuilt from the master, the car spun - and did not ship it; removed by RJ1, findings
+    # J4 / RJ1)
+    follow_blown = -1 if (blown >= 2 and p.esp_gma_rear_named_flag > 0.5) else blown
     # a wheel only NAMED by the TPMS: excluded from the reference but not (yet) detected by the compensation
     tpms_only = blown >= 0 and int(bst[bc.S_BLOWN]) < 0
     for i in range(4):
@@ -757,13 +757,13 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             row = T_DONE
         elif hba_mode == hba.ACTIVE and (ctl[C_SOURCE_C1 + CIRCUIT[i]] == SRC_DRIVER or (
                 i >= 2 and ctl[C_SOURCE_C1 + CIRCUIT[i]] == SRC_UNDECIDED) or (
-                i == gma_wheel and gma_blown < 0 and p.esp_gma_hba_flag > 0.5)):
+                i == gma_wheel and blown < 0 and p.esp_gma_hba_flag > 0.5)):
             # a rear wheel is pumped above its proportioned driver pressure only once the pump has had to lift its
             # circuit's front wheel (pumping it while the front still rebuilt below the driver put the rear into ABS
             # cycling the car without HBA does not have)
             row = A_DRIVER
         req = int(wheels[i, A_REQUEST])
-        if ((row == A_DRIVER or (row == hba.ACTIVE and follow_blown != gma_blown)) and i == gma_wheel and follow_blown < 0
+        if ((row == A_DRIVER or (row == hba.ACTIVE and follow_blown != blown)) and i == gma_wheel and follow_blown < 0
                 and p.esp_gma_follow_flag > 0.5
                 and ctl[C_SOURCE_C1 + CIRCUIT[i]] != SRC_DRIVER and ctl[C_SOURCE_C1 + CIRCUIT[1 - i]] == SRC_PUMP
                 and max(wheels[1 - i, A_P_EST], wheels[i, A_P_EST]) > p_mc + RAMP_SETTLED_PA):

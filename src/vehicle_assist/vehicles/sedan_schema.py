@@ -129,10 +129,10 @@ class SedanEsp(Strict):
     # a TPMS-named front (before the detection): its ABS activity does not start the GMA on the other front; 0 = the code
     # before (tire_blowout_findings.md I4)
     named_front_gma_flag: Annotated[int, Field(ge=0, le=1)] = 1
-    # 2 = with a blown or TPMS-named REAR the GMA follow (gma_follow_flag) still applies to the GMA's front (only a blown
-    # front's release is the fronts' one-sided ABS activity); 1 = also gma_hba_flag's driver's-source cap - a candidate
-    # NOT shipped (moves a violation); 0 = the code before (tire_blowout_findings.md J4)
-    gma_rear_named_flag: Annotated[int, Field(ge=0, le=2)] = 2
+    # 1 = with a blown or TPMS-named REAR the GMA follow (gma_follow_flag) still applies to the GMA's front (only a blown
+    # front's release is the fronts' one-sided ABS activity); 0 = the code before (tire_blowout_findings.md J4, RJ1: J4's
+    # value 1 (also gma_hba_flag's cap, not shipped) removed; the shipped rule was J4's value 2)
+    gma_rear_named_flag: Annotated[int, Field(ge=0, le=1)] = 1
     hba_master_rebuild_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: pump re-build undecided)
     hba_rampout_pumped_only_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: ramp-out unpumped)
     abs_signal_filter_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (#10 F2: raw-differenced wheel decel)
