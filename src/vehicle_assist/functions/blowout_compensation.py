@@ -1578,12 +1578,21 @@ def reject_heading_return(st, mode, braking, yaw_rate, v_ref, p_est, requests, p
         return
     y = toward_blown_side(bb, yaw_rate) - st[S_GB_R0]
     st[S_GB_PSI] += y * dt
+    kick_only = p.blowout_compensation_reject_heading_return_flag > 1.5
+    if kick_only and st[S_GB_PSI] >= 0.0:
+        # (flag 2, J7) the heading the function turned the car away from the named wheel is given back: from here on
+        # the yaw error is the car's own (a braking car's understeer in a curve, which the twin has too)
+        st[S_GB_ON] = 0.0
+        return
     t_s = settling_time_s(v_ref, p)
     r_max = p.blowout_compensation_abort_yaw_rate_radps
     y_d = min(max(-st[S_GB_PSI] / t_s, -r_max), r_max)
     e = y - y_d
     db = p.blowout_compensation_yaw_deadband_radps
     if abs(e) <= db:
+        return
+    if kick_only and e > 0.0:
+        # (flag 2, J7) never the front on the named wheel's side: its release is the rejected detection's own kick
         return
     w = heading_return_wheel(bb, e < 0.0)
     # the pressure difference to the other front that removes the rate error in one yaw-mode time constant
