@@ -1569,7 +1569,17 @@ def reject_heading_return(st, mode, braking, yaw_rate, v_ref, p_est, requests, p
     #25 speed at 5 s 11.1 vs 7.9 m/s). Runs while the detection stays rejected (mode REJECTED), the pedal is on and the
     car is above the function's minimum speed; a
     first version that ended at the heading's zero crossing left the yaw rate it had made (the car carries it: 0.62 m
-    the other way)."""
+    the other way).
+
+    Flag 2 (shipped, session j J7; 1 = J5's rule above): only the heading the function caused is given back. The rule
+    ends as soon as the integral is back at zero - from then on a yaw error is the car's own: a braking car in a curve
+    yaws below the linear steered reference as the pedal loads its tyres (understeer), and the car without the function
+    does the same (lead fa_cau_signed #40, FR named, 650 m left curve: the twin's integral +3.0 deg at 5 s; J5's rule,
+    regulating it to zero to the end, held the car 3 deg inside the twin's heading, 0.133 m beyond the inner marking vs
+    0.919 m inside for the twin). And it never releases the front on the named wheel's side: that release is the
+    rejected detection's own kick, and a car returning faster than the first-order demand is returning by itself (J5
+    released it against the car's own understeer return). No new threshold. The return release (the other front) and
+    its size are J5's."""
     bb = int(st[S_GB_B])
     if mode != REJECTED or braking < 0.5 or bb < 0 or v_ref < p.blowout_compensation_min_speed_mps:
         # (and below the function's minimum speed, as BUILD/HOLD -> ENDED: the baseline is a yaw error at speed - a
