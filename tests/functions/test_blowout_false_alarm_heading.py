@@ -28,7 +28,7 @@ from tests.support import mean_decel as _decel
 from tests.support import panic_stop_decel_bound as _bound
 
 B = "vehicle.blowout_compensation."
-ON = (B + "reject_heading_return_flag=1",)
+ON = (B + "reject_heading_return_flag=2",)  # the shipped value (J7: the reference's understeer term at the detection speed)
 DEFECT = (B + "reject_heading_return_flag=0",)
 EXC = "blowout_lane_exceedance_m"
 DEV = "blowout_lateral_deviation_run_max_m"
@@ -113,23 +113,26 @@ def _rule_state(b, r0, psi, v_mps=26.7):
 @pytest.mark.parametrize("offset_deg_s", [-3.75, -1.0, 0.0, 1.0, 3.75])
 def test_gyro_offset_cancels(offset_deg_s):
     """A constant yaw-rate sensor offset (up to the published 3.75 deg/s within life and temperature) on a car that does
-    not yaw: the baseline at the detection holds the offset (S_GB_R0 = the yaw error then), so over 3 s the caused
-    heading stays 0 and no wheel is released. The raw-rate variant of the rule (no baseline, r0 = 0: the mutant below)
-    releases a front at any offset above the dead band's share - the check can fail."""
+    not yaw, the rule started with a small caused heading (0.06 deg away from the named FR, #25's at the rejection): the
+    baseline at the detection holds the offset (S_GB_R0 = the yaw error then), so over 3 s the caused heading stays
+    where it was, the rule stays on and no wheel is released. The raw-rate variant of the rule (no baseline, r0 = 0: the
+    mutant below) releases a front at any offset above the dead band's share - the check can fail."""
     p = _params()
     off = math.radians(offset_deg_s)
     dt = 0.005
     p_est = np.full(4, 40.0e5)
+    psi0 = -math.radians(0.06)
     for r0, expect_quiet in ((bc.toward_blown_side(1, off), True), (0.0, abs(offset_deg_s) < 1.0)):
-        st = _rule_state(1, r0, 0.0)
+        st = _rule_state(1, r0, psi0)
         released = False
         for _ in range(600):
             req = np.zeros(4, dtype=np.int64)
             bc.reject_heading_return(st, bc.REJECTED, 1.0, off, 26.7, p_est, req, p, dt)
             released |= bool(np.any(req == bc.Q_RELEASE))
-        assert (not released) == expect_quiet, (offset_deg_s, r0, released, st[bc.S_GB_PSI])
+        quiet = (not released) and st[bc.S_GB_ON] == 1.0
+        assert quiet == expect_quiet, (offset_deg_s, r0, released, st[bc.S_GB_ON], st[bc.S_GB_PSI])
         if r0 != 0.0 or offset_deg_s == 0.0:
-            assert abs(st[bc.S_GB_PSI]) < 1e-12
+            assert abs(st[bc.S_GB_PSI] - psi0) < 1e-12
 
 
 def test_release_side_turns_the_car_back():
@@ -179,3 +182,31 @@ def test_real_rejected_blowout_untouched(name):
     on, off = _run(env, pt, sets=ON), _run(env, pt, sets=DEFECT)
     assert _events(on, "REJECTED")
     assert on.metrics[DEV] == off.metrics[DEV], (on.metrics[DEV], off.metrics[DEV])
+
+
+# Session j, J7 (tire_blowout_findings.md "J7 (session j)"): J5's rule (flag 1) regulated the yaw-error integral
+# against reference_yaw_rate at the PRESENT speed: with the wheel held, that reference's path tightens as the braking car
+# slows (K*u^2 falls), the twin yaws below it (its own understeer) and the rule turned the function car into the curve.
+# Flag 2 (shipped) keeps the understeer term at the detection's speed (heading_return_reference).
+J5_RULE = (B + "reject_heading_return_flag=1",)  # the code before J7 (seeded defect of these rows)
+# lead fa_cau_signed (reproduce's false-alarm campaign with the signed per-side margin, CMA-ES 2026 -n 48 -b 8, main
+# 05d4b10: /tmp/lead/j/fa_cau_signed/falsify.json) #40, as the search wrote it: FR named (no blowout), 112 km/h,
+# mu scale 0.567, 650 m LEFT curve, fixed steering, light pedal 0.253 at 0.30 /s from 2.09 s
+FA40 = {"speed": 111.76021259705631, "mu": 0.5665383988667541, "brake.start_s": 2.092301219378508,
+        "brake.level_frac": 0.2530192460509459, "brake.rate_per_s": 0.30440698372214736, "braking": "brakes",
+        "wheel": "fr", "driver": "fixed", "curve": "r650"}
+OVER = ("blowout_lane_overshoot_left_m", "blowout_lane_overshoot_right_m")
+
+
+def test_curve_false_alarm_no_departure_over_the_inner_marking():
+    """no_lane_departure_caused per side (data/requirements/tire_blowout.toml; issue #10 'Faults'): the signed overshoot
+    beyond each marking <= max(0, the twin's on the same side). fa_cau_signed #40: measured left -0.445 m (twin -0.919,
+    code before J5 -0.813), right inside. J5's rule (flag 1) 0.133 m beyond the LEFT (inner) marking -> fails: against
+    the present-speed reference it held the car 3 deg inside the twin's heading."""
+    env = load_envelope("tire_blowout_false_alarm")
+    none = _run(env, FA40, baseline=True).metrics
+    for sets, ok in ((ON, True), (J5_RULE, False)):
+        m = _run(env, FA40, sets=sets).metrics
+        held = all(m[k] <= max(0.0, none[k]) for k in OVER)
+        assert held == ok, (sets, [(m[k], none[k]) for k in OVER])
+

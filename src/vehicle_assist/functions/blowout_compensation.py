@@ -344,7 +344,10 @@ S_GB_B = S_GB_PSI + 1
 # (esp.lock_level_line_flag) the ECU's line-lag wheel-pressure estimate A_P_LINE [Pa], 4 slots fl fr rl rr, written by
 # functions/esp.py before blowout_step as S_ABS_ACTIVE: braking_lock_floor stores and compares its lock level on it
 S_P_LINE = S_GB_B + 1
-STATE_SIZE = S_P_LINE + 4
+# (reject_heading_return_flag 2, session j J7) the speed reference at the detection [m/s]: the rule's steered reference
+# keeps the understeer term of the linear single-track model at that speed (``heading_return_reference``)
+S_GB_U0 = S_P_LINE + 4
+STATE_SIZE = S_GB_U0 + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -1234,6 +1237,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_BETA_DOT] = 0.0
             st[S_PSI_ERR] = 0.0
             st[S_GB_R0] = toward_blown_side(b, yaw_rate)  # (reject_heading_return_flag) the yaw error before any action
+            st[S_GB_U0] = v_ref  # (reject_heading_return_flag 2) the speed its reference's understeer term is kept at
             st[S_GB_ON] = 0.0
             st[S_SPIN_EXITED] = 0.0
             st[S_OS_YAW_SEEN] = 0.0
@@ -1535,8 +1539,29 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     if p.blowout_compensation_braking_rule_flag > 0.5:
         braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref, a_y_meas, v_ref)
     if st[S_GB_ON] > 0.5:
-        reject_heading_return(st, mode, braking, yaw_rate, v_ref, p_est, requests, p, dt)
+        y_gb = yaw_rate
+        if p.blowout_compensation_reject_heading_return_flag > 1.5:
+            y_gb = yaw_rate_meas - heading_return_reference(steer_rad, v_ref, st[S_GB_U0], p)
+        reject_heading_return(st, mode, braking, y_gb, v_ref, p_est, requests, p, dt)
     return n_events
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def heading_return_reference(steer_rad, speed_mps, speed_det_mps, p):
+    """(reject_heading_return_flag 2, session j J7) The heading return's steered reference yaw rate: the path curvature
+    the linear single-track model gives the measured road-wheel angle at the speed of the DETECTION,
+    delta/(l + K*u_det^2), times the present speed. ``reference_yaw_rate`` uses the present speed in the understeer
+    term K*u^2: with the steering held, its path curvature tightens as the braking car slows (SUV: x1.38 from 31 to
+    20 m/s, x1.57 to 15 m/s) - a tighter path nobody steered, which a braking car (its understeer grows under braking:
+    load to the front, the front tyres' force spent longitudinally) does not follow. Regulating the caused heading
+    against it turned the car into the curve by the reference's own drift (lead fa_cau_signed #40, FR named, 650 m left
+    curve, 112 -> 56 km/h: the car without the function yaws 3.0 deg below it by 5 s; J5's rule held the function car
+    at it: 3 deg inside the twin's heading, 0.133 m beyond the inner marking). Assumed: the curvature asked at the
+    alarm is the driver's, the change of the understeer term with speed afterwards is not (the driver's steering
+    changes still count, through delta)."""
+    if speed_det_mps <= 1.0:
+        return reference_yaw_rate(steer_rad, speed_mps, p)
+    return reference_yaw_rate(steer_rad, speed_det_mps, p) * speed_mps / speed_det_mps
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -1569,7 +1594,11 @@ def reject_heading_return(st, mode, braking, yaw_rate, v_ref, p_est, requests, p
     #25 speed at 5 s 11.1 vs 7.9 m/s). Runs while the detection stays rejected (mode REJECTED), the pedal is on and the
     car is above the function's minimum speed; a
     first version that ended at the heading's zero crossing left the yaw rate it had made (the car carries it: 0.62 m
-    the other way)."""
+    the other way).
+
+    Flag 2 (shipped, session j J7; 1 = J5's rule above): the yaw error is taken against ``heading_return_reference``
+    (the understeer term kept at the detection's speed), not against ``reference_yaw_rate`` - with the wheel held the
+    latter's path tightens as the car slows and the rule turned the car into the curve by that drift."""
     bb = int(st[S_GB_B])
     if mode != REJECTED or braking < 0.5 or bb < 0 or v_ref < p.blowout_compensation_min_speed_mps:
         # (and below the function's minimum speed, as BUILD/HOLD -> ENDED: the baseline is a yaw error at speed - a

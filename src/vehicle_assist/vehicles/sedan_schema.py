@@ -366,8 +366,9 @@ class SedanBlowoutCompensation(Strict):
     # after a rejected single-source detection of a healthy wheel while the driver brakes, the heading the function's
     # release + build turned the car away from the named wheel (yaw-error integral net of its value at the detection)
     # is given back by releasing the front wheel on the side the car turned toward (never above the driver's pressure);
-    # 0 = the code before (tire_blowout_findings.md J5, session j)
-    reject_heading_return_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # 0 = the code before (tire_blowout_findings.md J5, session j); 2 (J7) = its steered reference keeps the understeer
+    # term at the detection's speed (a held wheel's path does not tighten as the car slows); 1 = J5's (present speed)
+    reject_heading_return_flag: Annotated[int, Field(ge=0, le=2)] = 2
     # after a rejected FRONT detection (mode REJECTED), while the driver steers a curve, esp.abs_hold_limit's time limit
     # on the ABS hold of both fronts, even with esp.abs_hold_limit_flag 0; 0 = the code before (tire_blowout_findings.md
     # J6, session j)
