@@ -186,3 +186,70 @@ def test_75_stuck_rl_compensating_front_not_capped_at_the_other_front(runs75):
 def test_75_stuck_rl_defect_costs_the_run(runs75):
     """Run-level negative control: the cap (flag 0) makes the run worse - 3.165 vs 2.725 m."""
     assert runs75["defect"].metrics[METRIC] > runs75["on"].metrics[METRIC]
+
+
+# ---- J8 (session j): the circuit-source latch with a named REAR (esp.gma_rear_named_flag = 1, review RJ1 (a)) ----
+# During an assist each circuit's source is latched once by its front: SRC_PUMP only when the pump lifted the front
+# above the driver in a pump build mode - a front left above an EASING driver's pressure (held) is not pump-served
+# (the guard the GMA follow relies on: 'only once the pump served the other circuit'). The exception 'or a wheel is
+# excluded' latched SRC_PUMP from a hold for ANY named wheel; a named REAR releases no front, so the fronts' latch is
+# the twin's (no excluded wheel). Reference: the same ESP with no wheel named (the car without the function), ECU
+# level: HBA active, driver at 40 bar, FL estimated 10 bar above it.
+P_MC_PA = 40.0e5  # driver's master pressure (above brake_assist on_pressure 30 bar)
+HELD_ABOVE_PA = 10.0e5  # FL's estimate above the driver's (> the 1-bar settled band)
+
+
+def _ecu_params(flag: int):
+    from vehicle_assist.scenarios.runner import pack_records
+
+    flat = dict(va.load_scenario("blowout_rr_60kph").vehicle.flat())
+    flat["esp_gma_rear_named_flag"] = flag
+    return pack_records([flat])[0]
+
+
+def _fl_circuit_source(flag: int, named: int | None, last_mode: int) -> float:
+    from tests.support import esp_ecu, esp_ecu_step
+    from vehicle_assist.functions import brake_assist as hba
+    from vehicle_assist.functions import esp
+
+    p = _ecu_params(flag)
+    e = esp_ecu(p, 19.0, P_MC_PA)
+    if named is not None:  # the TPMS names the wheel (index + 1), the reference excludes it
+        e["meas"].tpms_alarm_wheel_index = named + 1.0
+        e["meas"].tpms_alarm_wheel_ok = 1.0
+        for _ in range(3):
+            esp_ecu_step(e, p)
+    e["hst"][hba.S_MODE] = hba.ACTIVE
+    e["hst"][hba.S_P_PEAK] = P_MC_PA
+    e["hst"][hba.S_P_PREV] = P_MC_PA
+    e["wheels"][0, esp.A_P_EST] = P_MC_PA + HELD_ABOVE_PA
+    e["wheels"][0, esp.A_WHEEL_MODE] = last_mode
+    esp_ecu_step(e, p)
+    return float(e["ctl"][esp.C_SOURCE_C1 + esp.CIRCUIT[0]])
+
+
+@pytest.mark.parametrize("named", [2, 3])
+def test_named_rear_held_front_latches_as_without_the_function(named):
+    """FL held above the driver (mode W_H): with RL/RR named the circuit stays undecided, as with no wheel named;
+    a pump-built FL (W_B) latches SRC_PUMP in both. Fails at flag 0: the named rear latched SRC_PUMP from the hold."""
+    from vehicle_assist.functions import esp
+
+    twin = _fl_circuit_source(1, None, esp.W_H)
+    assert twin == esp.SRC_UNDECIDED
+    assert _fl_circuit_source(1, named, esp.W_H) == twin
+    assert _fl_circuit_source(1, named, esp.W_B) == _fl_circuit_source(1, None, esp.W_B) == esp.SRC_PUMP
+
+
+@pytest.mark.parametrize("named", [2, 3])
+def test_named_rear_latch_defect(named):
+    """Negative control (flag 0, the code before): the held front latched SRC_PUMP because a rear was named."""
+    from vehicle_assist.functions import esp
+
+    assert _fl_circuit_source(0, named, esp.W_H) == esp.SRC_PUMP
+
+
+def test_named_front_latch_unchanged():
+    """A named FRONT keeps the code before at every value (its release is the compensation's; not this rule)."""
+    from vehicle_assist.functions import esp
+
+    assert _fl_circuit_source(1, 1, esp.W_H) == _fl_circuit_source(0, 1, esp.W_H) == esp.SRC_PUMP
