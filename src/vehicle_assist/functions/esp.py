@@ -712,16 +712,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             ctl[C_SOURCE_C1 + c] = SRC_UNDECIDED
         elif ctl[C_SOURCE_C1 + c] == SRC_UNDECIDED:
             last = int(wheels[i, A_WHEEL_MODE])
-            lifted = last == W_B or last == W_BP or p.esp_hba_rampout_pumped_only_flag < 0.5 or (
-                blown >= 0 and not (blown >= 2 and p.esp_gma_rear_named_flag > 0.5))
+            lifted = last == W_B or last == W_BP or p.esp_hba_rampout_pumped_only_flag < 0.5 or blown >= 0
             # (the pump lifted it: above the driver in a pump build mode; a wheel left above an easing driver's
             # pressure, or the GMA's wheel held at the driver's, is not pump-served - latching it made the
             # circuit's rear pumped on split-mu with an easing driver: CMA-ES/random seed 7 counterexamples)
-            # (gma_rear_named_flag 1, J8 / review RJ1: a named or blown REAR releases no front, so the fronts latch
-            # as without the function; 0 = the code before, any excluded wheel latched SRC_PUMP from a hold and
-            # weakened the GMA follow's 'only once the pump served the other circuit' guard. Measured: no trace of
-            # J4's 444 rear points or the 82 shipped scenarios changes - the path needs a front held above an easing
-            # driver while its circuit is undecided; test_blowout_j4_rear_named_gma.py checks it at ECU level)
             if wheels[i, A_P_EST] - p_mc > RAMP_SETTLED_PA and lifted:
                 ctl[C_SOURCE_C1 + c] = SRC_PUMP
                 ctl[C_PUMPED_C1 + c] = 1.0
