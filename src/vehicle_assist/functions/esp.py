@@ -745,6 +745,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     follow_blown = -1 if (blown >= 2 and p.esp_gma_rear_named_flag > 0.5) else blown
     # a wheel only NAMED by the TPMS: excluded from the reference but not (yet) detected by the compensation
     tpms_only = blown >= 0 and int(bst[bc.S_BLOWN]) < 0
+    comp_now = int(bst[bc.S_TARGET]) if int(bst[bc.S_MODE]) != bc.IDLE else -1  # the compensation's wheel now
     for i in range(4):
         row = hba_mode
         src_i = p_mc if i < 2 else _prop(p_mc, p)
@@ -779,7 +780,16 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             if wheels[i, A_P_EST] < wheels[1 - i, A_P_EST] - RAMP_SETTLED_PA:
                 if (req == R_GMA_PULSE or req == R_GMA_HOLD) and toward <= p.esp_yaw_hold_rate_radps:
                     req = R_OFF  # (ACTIVE row: pump build)
-            elif req == R_OFF or req == R_BUILD or req == R_GMA_PULSE:
+            elif (req == R_OFF or req == R_BUILD or req == R_GMA_PULSE) and not (
+                    i == comp_now and follow_blown != blown and p.esp_gma_follow_comp_flag > 0.5):
+                # (gma_follow_comp_flag, 0 = the code before) not on the blowout compensation's front (a rear blowout
+                # with its opposite rear's inlet stuck: LIMITED on the same-side front, _substitute): its pressure
+                # above the other front's IS the compensation's counter-moment (paper 004 eq. 28, added on top of the
+                # target's pressure), which the follow's 'not past the other front' cancelled - J8: the lead's bb29
+                # #75 (RR named) with RL's inlet stuck, FL held at or below FR (FL - FR mean -4.3 bar over the first
+                # LIMITED second): 3.165 m; without the cap -0.2 bar, 2.725 m (twin 4.773). The pump-up to the other
+                # front stays (as without the function, and in the compensation's direction: removing the follow
+                # from that wheel entirely froze FL at the GMA's pulses, #69 with RL stuck 1.397 -> 1.678 m)
                 req = R_GMA_HOLD  # at the other front's pressure: hold, circuit isolated
         wm = ARBITRATION[row, req] if abs_ok else W_N
         if (i >= 2 and row == hba.ACTIVE and (wm == W_B or wm == W_BP)

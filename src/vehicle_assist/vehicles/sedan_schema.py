@@ -133,6 +133,10 @@ class SedanEsp(Strict):
     # front's release is the fronts' one-sided ABS activity); 0 = the code before (tire_blowout_findings.md J4, RJ1: J4's
     # value 1 (also gma_hba_flag's cap, not shipped) removed; the shipped rule was J4's value 2)
     gma_rear_named_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # 1 = with a blown or TPMS-named REAR the GMA follow does not hold the blowout compensation's front at the other
+    # front's pressure (the compensation's counter-moment is that difference); 0 = the code before
+    # (tire_blowout_findings.md J8)
+    gma_follow_comp_flag: Annotated[int, Field(ge=0, le=1)] = 1
     hba_master_rebuild_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: pump re-build undecided)
     hba_rampout_pumped_only_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (issue #9: ramp-out unpumped)
     abs_signal_filter_flag: Annotated[int, Field(ge=0, le=1)] = 1  # 0 = seeded defect (#10 F2: raw-differenced wheel decel)
