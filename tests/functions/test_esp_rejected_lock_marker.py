@@ -11,8 +11,9 @@ re-apply step typically dumps the wheel in exactly that period (lead fa_cau_sign
 2.06 s, lock_threatened): that dump stores its level in the loop, the marker then overwrites it with -1, and the marker
 skips the SECOND dump - the first road reading. The level counts from the third dump.
 
-Reference: the rule's documented intent above (not the code's formula). Strict xfail: the defect is in the shipped code;
-the proposed fix (findings RJ3) is to write 0 instead of -1 when the rejected front began its dump in the same period.
+Reference: the rule's documented intent above (not the code's formula). Fixed in session j (J10,
+blowout_compensation.gma_rejected_marker_dump_flag = 1): 0 is written instead of -1 when the rejected front began its dump
+in the same period. The flag-0 row (the code before) must show the defect (measured: -1, 0, 57.9 bar after dumps 1, 2, 3).
 """
 from __future__ import annotations
 
@@ -28,11 +29,11 @@ from vehicle_assist.scenarios.runner import pack_records
 BAR = 1.0e5
 
 
-def _levels_at_dumps():
+def _levels_at_dumps(sets=()):
     """ECU alone (SUV file, HBA off), 80 km/h, driver 60 bar: FR just rejected (mode REJECTED, FL the compensating
     front's block, FL in ABS control), FR slips to 70 % of the car's speed in the first period (the re-apply step's
     dump), then again 0.2 s and 0.4 s later (road locks). Returns C_LOCK_P1 after each of FR's dumps and C_LOCK_REJ."""
-    p = pack_records([va.load_scenario("blowout_panic_stop_80kph", ["vehicle.brake_assist.enabled_flag=0"]).vehicle.flat()])[0]
+    p = pack_records([va.load_scenario("blowout_panic_stop_80kph", ["vehicle.brake_assist.enabled_flag=0", *sets]).vehicle.flat()])[0]
     v = 80.0 / 3.6
     e = esp_ecu(p, v, 60.0 * BAR)
     c, w, b, m = e["ctl"], e["wheels"], e["bst"], e["meas"]
@@ -55,9 +56,13 @@ def test_premise_three_dumps_and_the_marker_is_set():
     assert len(levels) == 3 and rej == 2, (levels, rej)
 
 
-@pytest.mark.xfail(strict=True, reason="RJ3: the marker is set after the re-apply step's dump of the same period, so "
-                   "it skips the first road dump (measured: C_LOCK_P1 -1, 0, 57.9 bar after dumps 1, 2, 3)")
-def test_rejected_front_level_counts_from_its_second_dump():
+FLAG0 = ("vehicle.blowout_compensation.gma_rejected_marker_dump_flag=0",)
+
+
+@pytest.mark.parametrize("sets", [(), pytest.param(FLAG0, marks=pytest.mark.xfail(
+    strict=True, reason="flag 0 = the code before: the marker is set after the re-apply step's dump of the same period "
+    "and skips the first road dump (RJ3: C_LOCK_P1 -1, 0, 57.9 bar after dumps 1, 2, 3)"))], ids=["shipped", "flag0"])
+def test_rejected_front_level_counts_from_its_second_dump(sets):
     """The second dump after the rejection (the first road lock) stores a level (> 0)."""
-    levels, _ = _levels_at_dumps()
+    levels, _ = _levels_at_dumps(sets)
     assert levels[1] > 0.0, [x / BAR for x in levels]

@@ -463,6 +463,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         bst[bc.S_PAIR_LOW] = 0.0  # the pair rule after a rear rejection lasts until the brake is released
     comp_wheel = int(bst[bc.S_TARGET]) if int(bst[bc.S_MODE]) != bc.IDLE else -1  # blowout compensation brakes it
     filt = p.esp_abs_signal_filter_flag > 0.5
+    dump_new0 = False  # a front began an ABS dump in this period (gma_rejected_marker_dump_flag)
+    dump_new1 = False
     for i in range(4):
         vw = vw0 if i == 0 else vw1 if i == 1 else vw2 if i == 2 else vw3
         slip = (v_ref - vw) / max(v_ref, 1.0)
@@ -498,6 +500,14 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             new, stepped = abs_hold_limit(wheels, i, new, slip, p, dt)
             if stepped:
                 reason = abs_fn.G_LOCK  # a held wheel that does not re-accelerate is heading for lock (abs_hold_limit)
+        elif p.blowout_compensation_rejected_hold_reset_flag > 0.5:
+            # (rejected_hold_reset_flag, 0 = the code before = the window state frozen) the hold limit does not apply
+            # to this wheel now (rej_hold's curve gate dropped, REJECTED ended): its window state is reset as at the
+            # end of a hold, so a later gated-on hold starts two fresh windows (review RJ3: a stale partial window and
+            # an old hold's mean let it dump after one window)
+            wheels[i, A_HOLD_S] = 0.0
+            wheels[i, A_HOLD_SUM] = 0.0
+            wheels[i, A_HOLD_PREV] = -1.0
         if (new == abs_fn.DUMP and mode != abs_fn.DUMP and i == comp_wheel
                 and p.blowout_compensation_braking_rule_flag > 0.5
                 and (slip > p.esp_abs_hold_slip_frac or p.blowout_compensation_predump_slip_flag < 0.5)):
@@ -527,6 +537,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # wheel locked at (plant esp_unit row N: the wheel follows the source through tau_line; A_P_EST jumps to it)
             p_lk = wheels[i, A_P_LINE] if p.esp_lock_level_line_flag > 0.5 else wheels[i, A_P_EST]
             ctl[C_LOCK_P0 + i] = p_lk if ctl[C_LOCK_P0 + i] >= 0.0 else 0.0
+            if i == 0:
+                dump_new0 = True
+            else:
+                dump_new1 = True
         wheels[i, A_MODE] = new
         if new == abs_fn.HOLD or new == abs_fn.DUMP:
             wheels[i, A_SINCE_HD_S] = 0.0
@@ -610,7 +624,12 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         # road (the estimate jumps to the source: RI1's case read FR 150 bar against FL 58, the wrong way round)
         if int(ctl[C_LOCK_REJ]) - 1 != blk_r:
             ctl[C_LOCK_REJ] = blk_r + 1.0
-            ctl[C_LOCK_P0 + blk_r] = -1.0
+            # (gma_rejected_marker_dump_flag, 0 = the code before = -1 always) the marker is set after this period's
+            # ABS loop: if the rejected front began its dump in this period, that dump is the re-apply step's and
+            # the marker is consumed (0: the next dump, the first road lock, stores its level) - review RJ3
+            began = dump_new0 if blk_r == 0 else dump_new1
+            ctl[C_LOCK_P0 + blk_r] = (0.0 if (began and p.blowout_compensation_gma_rejected_marker_dump_flag > 0.5)
+                                      else -1.0)
         p_r = ctl[C_LOCK_P0 + blk_r]
         p_k = ctl[C_LOCK_P0 + blk]
         if p_r > 0.0 and p_k > 0.0:

@@ -377,6 +377,14 @@ class SedanBlowoutCompensation(Strict):
     # on the ABS hold of both fronts, even with esp.abs_hold_limit_flag 0; 0 = the code before (tire_blowout_findings.md
     # J6, session j)
     rejected_hold_limit_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # gma_rejected_split_flag's skip marker (-1 on the rejected front's lock level) consumed by a dump the rejected
+    # front began in the period the marker is set (the re-apply step's dump): 0 written instead, so the level counts
+    # from the second dump after the rejection as the rule states; 0 = the code before (review RJ3, session j)
+    gma_rejected_marker_dump_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # esp.abs_hold_limit's window state (A_HOLD_S/SUM/PREV) reset on a wheel the hold limit does not apply to now
+    # (neither esp.abs_hold_limit_flag nor rejected_hold_limit_flag's gate); 0 = the code before (frozen: a later
+    # gated-on hold continued a stale window, review RJ3, session j)
+    rejected_hold_reset_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
