@@ -281,3 +281,42 @@ def test_wheel_speed_only_detection_does_not_arm_the_rule():
                 break
         assert ecu.mode == "REJECTED", ecu.rows
         assert (ecu.st[bc.S_GB_ON] > 0.5) == armed_expected, (flag, ecu.st[bc.S_GB_ON])
+
+
+def test_caused_heading_after_a_spin_exit_counts_from_the_exit():
+    """RJ2 item E: a spin exit (spin_exit_flag, LIMITED spin-front -> BUILD) resets the heading integral S_PSI_ERR, but
+    the caused heading at a later rejection took the baseline off over the whole time since the DETECTION. ECU loop:
+    a TPMS alarm on RL under the pedal, the car yawing toward RL beyond the mu-0.8 bound at the detection (20 deg/s:
+    LIMITED, spin front), back at -1.5 deg/s until the spin exit, then -3 deg/s (away from RL, > abort_yaw_rate) until
+    the rejection two samples later. Independent reference, from the inputs: the integral since the exit of (yaw error
+    - baseline) = (toward(-3 deg/s) - R0) * (n + 1) * dt over the n samples after the exit (+ the rule's own first
+    sample in the rejection period). heading_return_spin_exit_flag 1:
+    equal (1e-9 rad). Flag 0 (the code before) subtracts the baseline over the ~2.2 s since the detection: -5.1 deg
+    instead of -0.05 -> fails."""
+    from tests.support import BlowoutEcu
+
+    p = _params()
+    dt = 0.005
+    for flag, ok in ((1, True), (0, False)):
+        ecu = BlowoutEcu(p, v_mps=26.7, blowout_compensation_heading_return_spin_exit_flag=flag)
+        kw = dict(braking=1.0, p_est=(40.0e5,) * 4, tpms=3.0)  # RL = TPMS index 3
+        ecu.run(0.2, braking=1.0, p_est=(40.0e5,) * 4)
+        ecu.run(0.05, yaw=math.radians(0.5), **kw)
+        ecu.run(0.105, yaw=math.radians(20.0), **kw)
+        assert ecu.rows[-1][1:] == ("LIMITED", "beyond_stable_region"), ecu.rows
+        for _ in range(1000):
+            ecu.run(dt, yaw=math.radians(-1.5), **kw)
+            if ecu.rows[-1][2] == "spin_stopped":
+                break
+        assert ecu.rows[-1][1:] == ("BUILD", "spin_stopped"), ecu.rows
+        n = 0
+        for _ in range(200):
+            ecu.run(dt, yaw=math.radians(-3.0), **kw)
+            n += 1
+            if ecu.mode == "REJECTED":
+                break
+        assert ecu.rows[-1][1:] == ("REJECTED", "yaw_implausible") and ecu.st[bc.S_GB_ON] == 1.0, ecu.rows
+        # n samples since the exit in S_PSI_ERR, + the rule's own first sample in the rejection period
+        ref = (bc.toward_blown_side(2, math.radians(-3.0)) - ecu.st[bc.S_GB_R0]) * (n + 1) * dt
+        assert (abs(ecu.st[bc.S_GB_PSI] - ref) < 1e-9) == ok, (flag, math.degrees(ecu.st[bc.S_GB_PSI]),
+                                                                math.degrees(ref))
