@@ -371,7 +371,8 @@ class SedanBlowoutCompensation(Strict):
     reject_heading_return_flag: Annotated[int, Field(ge=0, le=2)] = 2
     # (session j, J9) reject_heading_return's detection baseline S_GB_R0 = the mean yaw-rate error over the detection
     # window (detection_delay_s of the same candidate), not the one sample at the detection; 0 = the code before
-    heading_return_mean_baseline_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # (shipped 0, candidate: at 1 the split-mu dry-named row 0.261 -> 2.006 m; tire_blowout_findings.md J9)
+    heading_return_mean_baseline_flag: Annotated[int, Field(ge=0, le=1)] = 0
     # (session j, J9) reject_heading_return only after a TPMS-only detection (its premise: a false TPMS alarm); 0 = the
     # code before (any single source, also wheel-speed-only)
     heading_return_tpms_only_flag: Annotated[int, Field(ge=0, le=1)] = 1
