@@ -237,9 +237,9 @@ def test_baseline_is_not_one_gyro_sample(spike_deg_s):
     yaw-rate set-point. A car that does not yaw, one gyro sample of +-0.5 deg/s at the detection instant (a spike, not
     an offset: the samples before and after read 0): after the rejection the rule, driven with the true yaw 0 for 3 s,
     must not release a front (the car never turned). With the mean over the detection window (heading_return_mean_
-    baseline_flag 1) the spike enters with 1/11 of its size (11 samples), 0.045 deg/s: the integral stays far inside the dead band
-    over 3 s (shipped 0 - a candidate: tire_blowout_findings.md J9). With the one sample (flag 0) the baseline IS the spike, the integral of -spike grows
-    until the band is exceeded and a front is released -> fails."""
+    baseline_flag 1) the spike enters with 1/11 of its size (11 samples), 0.045 deg/s: the integral stays far inside
+    the dead band over 3 s (shipped 0 - a candidate: tire_blowout_findings.md J9). With the one sample (flag 0) the
+    baseline IS the spike, the integral of -spike grows until the band is exceeded and a front is released -> fails."""
     p = _params()
     dt = 0.005
     for flag, expect_quiet in ((1, True), (0, False)):
