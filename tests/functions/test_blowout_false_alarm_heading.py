@@ -210,3 +210,113 @@ def test_curve_false_alarm_no_departure_over_the_inner_marking():
         held = all(m[k] <= max(0.0, none[k]) for k in OVER)
         assert held == ok, (sets, [(m[k], none[k]) for k in OVER])
 
+
+
+# Session j, J9 (tire_blowout_findings.md "J9 (session j)"; RJ2 items B, D, E): the rule's baseline, its source gate and
+# its caused heading after a spin exit.
+def _detect(p, spike_deg_s, sets=()):
+    """The ECU loop (tests.support.BlowoutEcu) on a straight, not-yawing braking car at 96 km/h: a TPMS alarm on FR
+    (p_est 40 bar all round) held for the detection window; the gyro reads 0 except ONE sample of ``spike_deg_s`` at
+    the detection instant (a noise spike or a steering / yaw transient). Returns the ECU after the detection."""
+    from tests.support import BlowoutEcu
+
+    ecu = BlowoutEcu(p, v_mps=26.7, **dict(sets))
+    kw = dict(braking=1.0, p_est=(40.0e5,) * 4)
+    ecu.run(0.2, **kw)
+    n = int(round(p.blowout_compensation_detection_delay_s / 0.005))  # the detection's window, 11 samples at 50 ms
+    ecu.run(n * 0.005, tpms=2.0, **kw)  # FR = TPMS index 2; the suspect timer counts up to the window
+    assert ecu.mode == "IDLE"
+    ecu.run(0.005, tpms=2.0, yaw=math.radians(spike_deg_s), **kw)  # the detection sample
+    assert ecu.mode == "BUILD", ecu.rows
+    return ecu
+
+
+@pytest.mark.parametrize("spike_deg_s", [-0.5, 0.5])
+def test_baseline_is_not_one_gyro_sample(spike_deg_s):
+    """RJ2 item B: the rule integrates (yaw error - baseline) to the end of the stop, so a baseline error is held as a
+    yaw-rate set-point. A car that does not yaw, one gyro sample of +-0.5 deg/s at the detection instant (a spike, not
+    an offset: the samples before and after read 0): after the rejection the rule, driven with the true yaw 0 for 3 s,
+    must not release a front (the car never turned). With the mean over the detection window (heading_return_mean_
+    baseline_flag 1) the spike enters with 1/11 of its size (11 samples), 0.045 deg/s: the integral stays far inside
+    the dead band over 3 s (shipped 0 - a candidate: tire_blowout_findings.md J9). With the one sample (flag 0) the
+    baseline IS the spike, the integral of -spike grows until the band is exceeded and a front is released -> fails."""
+    p = _params()
+    dt = 0.005
+    for flag, expect_quiet in ((1, True), (0, False)):
+        ecu = _detect(p, spike_deg_s, {"blowout_compensation_heading_return_mean_baseline_flag": flag})
+        st = ecu.st
+        # the rejection armed the rule with the caused heading 0 (the car never turned)
+        st[bc.S_GB_ON], st[bc.S_GB_B], st[bc.S_GB_PSI] = 1.0, 1.0, 0.0
+        released = False
+        for _ in range(600):
+            req = np.zeros(4, dtype=np.int64)
+            bc.reject_heading_return(st, bc.REJECTED, 1.0, 0.0, 26.7, np.full(4, 40.0e5), req, ecu.p, dt)
+            released |= bool(np.any(req == bc.Q_RELEASE))
+        assert (not released) == expect_quiet, (flag, spike_deg_s, math.degrees(st[bc.S_GB_R0]), released)
+
+
+def test_wheel_speed_only_detection_does_not_arm_the_rule():
+    """RJ2 item D: the rule's premise is a false TPMS alarm (the TPMS alarm alone, J5's source text); its gate was any
+    single source plus ONE wheel-speed sample back under the threshold at the rejection. With detection = wheel_speeds
+    (a configuration the schema allows; the shipped 'both' never detects on the wheel speeds alone) a FR signature
+    (15 % over-speed for 0.1 s: the smaller rolling radius, the blowout's own evidence), FR back at the car's speed
+    for 0.1 s, then the car yawing away from FR (3 deg/s > abort_yaw_rate) under the pedal: rejected yaw_implausible.
+    heading_return_tpms_only_flag 1: the rule stays off (S_GB_ON 0). Flag 0 (the code before) arms it on the
+    wheel-speed-only detection -> fails."""
+    from tests.support import BlowoutEcu
+
+    p = _params()
+    v = 26.7
+    for flag, armed_expected in ((1, False), (0, True)):
+        ecu = BlowoutEcu(p, v_mps=v, blowout_compensation_heading_return_tpms_only_flag=flag,
+                         blowout_compensation_detection=0)  # 0 = wheel speeds only
+        kw = dict(braking=1.0, p_est=(40.0e5,) * 4)
+        ecu.run(0.2, **kw)
+        ecu.run(0.1, vw=(v, 1.15 * v, v, v), **kw)
+        assert ecu.mode == "BUILD" and ecu.st[bc.S_SOURCES] == bc.SRC_WS
+        ecu.run(0.1, **kw)
+        for _ in range(60):
+            ecu.run(0.005, yaw=math.radians(3.0), **kw)
+            if ecu.mode == "REJECTED":
+                break
+        assert ecu.mode == "REJECTED", ecu.rows
+        assert (ecu.st[bc.S_GB_ON] > 0.5) == armed_expected, (flag, ecu.st[bc.S_GB_ON])
+
+
+def test_caused_heading_after_a_spin_exit_counts_from_the_exit():
+    """RJ2 item E: a spin exit (spin_exit_flag, LIMITED spin-front -> BUILD) resets the heading integral S_PSI_ERR, but
+    the caused heading at a later rejection took the baseline off over the whole time since the DETECTION. ECU loop:
+    a TPMS alarm on RL under the pedal, the car yawing toward RL beyond the mu-0.8 bound at the detection (20 deg/s:
+    LIMITED, spin front), back at -1.5 deg/s until the spin exit, then -3 deg/s (away from RL, > abort_yaw_rate) until
+    the rejection two samples later. Independent reference, from the inputs: the integral since the exit of (yaw error
+    - baseline) = (toward(-3 deg/s) - R0) * (n + 1) * dt over the n samples after the exit (+ the rule's own first
+    sample in the rejection period). heading_return_spin_exit_flag 1:
+    equal (1e-9 rad). Flag 0 (the code before) subtracts the baseline over the ~2.2 s since the detection: -5.1 deg
+    instead of -0.05 -> fails."""
+    from tests.support import BlowoutEcu
+
+    p = _params()
+    dt = 0.005
+    for flag, ok in ((1, True), (0, False)):
+        ecu = BlowoutEcu(p, v_mps=26.7, blowout_compensation_heading_return_spin_exit_flag=flag)
+        kw = dict(braking=1.0, p_est=(40.0e5,) * 4, tpms=3.0)  # RL = TPMS index 3
+        ecu.run(0.2, braking=1.0, p_est=(40.0e5,) * 4)
+        ecu.run(0.05, yaw=math.radians(0.5), **kw)
+        ecu.run(0.105, yaw=math.radians(20.0), **kw)
+        assert ecu.rows[-1][1:] == ("LIMITED", "beyond_stable_region"), ecu.rows
+        for _ in range(1000):
+            ecu.run(dt, yaw=math.radians(-1.5), **kw)
+            if ecu.rows[-1][2] == "spin_stopped":
+                break
+        assert ecu.rows[-1][1:] == ("BUILD", "spin_stopped"), ecu.rows
+        n = 0
+        for _ in range(200):
+            ecu.run(dt, yaw=math.radians(-3.0), **kw)
+            n += 1
+            if ecu.mode == "REJECTED":
+                break
+        assert ecu.rows[-1][1:] == ("REJECTED", "yaw_implausible") and ecu.st[bc.S_GB_ON] == 1.0, ecu.rows
+        # n samples since the exit in S_PSI_ERR, + the rule's own first sample in the rejection period
+        ref = (bc.toward_blown_side(2, math.radians(-3.0)) - ecu.st[bc.S_GB_R0]) * (n + 1) * dt
+        assert (abs(ecu.st[bc.S_GB_PSI] - ref) < 1e-9) == ok, (flag, math.degrees(ecu.st[bc.S_GB_PSI]),
+                                                                math.degrees(ref))

@@ -347,7 +347,15 @@ S_P_LINE = S_GB_B + 1
 # (reject_heading_return_flag 2, session j J7) the speed reference at the detection [m/s]: the rule's steered reference
 # keeps the understeer term of the linear single-track model at that speed (``heading_return_reference``)
 S_GB_U0 = S_P_LINE + 4
-STATE_SIZE = S_GB_U0 + 1
+# (heading_return_mean_baseline_flag, session j J9) the sum of the yaw-rate error (measured minus reference_yaw_rate)
+# over the detection window of the present suspect [rad/s] and its number of samples: the baseline S_GB_R0 is their
+# mean (the window the detection itself used, detection_delay_s), not the one sample at the detection
+S_GB_RSUM = S_GB_U0 + 1
+S_GB_RN = S_GB_RSUM + 1
+# (heading_return_spin_exit_flag, session j J9) the time S_PSI_ERR counts from [s]: the detection, or a spin exit that
+# reset S_PSI_ERR (the baseline is taken off the integral over that time only)
+S_GB_T0 = S_GB_RN + 1
+STATE_SIZE = S_GB_T0 + 1
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -1207,9 +1215,13 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     if mode == IDLE or mode == REJECTED:
         if cand >= 0 and cand == int(st[S_SUSPECT]):
             st[S_SUSPECT_S] += dt
+            st[S_GB_RSUM] += yaw_rate  # (heading_return_mean_baseline_flag) the detection window's yaw error
+            st[S_GB_RN] += 1.0
         else:
             st[S_SUSPECT] = cand
             st[S_SUSPECT_S] = 0.0
+            st[S_GB_RSUM] = yaw_rate if cand >= 0 else 0.0
+            st[S_GB_RN] = 1.0 if cand >= 0 else 0.0
         if cand >= 0 and st[S_SUSPECT_S] >= p.blowout_compensation_detection_delay_s - 1e-9:
             b = cand
             st[S_BLOWN] = b
@@ -1237,6 +1249,11 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_BETA_DOT] = 0.0
             st[S_PSI_ERR] = 0.0
             st[S_GB_R0] = toward_blown_side(b, yaw_rate)  # (reject_heading_return_flag) the yaw error before any action
+            if p.blowout_compensation_heading_return_mean_baseline_flag > 0.5 and st[S_GB_RN] > 0.5:
+                # its mean over the detection window (the samples the detection itself used, detection_delay_s of the
+                # same candidate; no action yet): one gyro-noise / transient sample is not a set-point for the stop
+                st[S_GB_R0] = toward_blown_side(b, st[S_GB_RSUM] / st[S_GB_RN])
+            st[S_GB_T0] = t
             st[S_GB_U0] = v_ref  # (reject_heading_return_flag 2) the speed its reference's understeer term is kept at
             st[S_GB_ON] = 0.0
             st[S_SPIN_EXITED] = 0.0
@@ -1363,9 +1380,14 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_PAIR_LOW] = 1.0 if (st[S_REAPPLY] >= 2.0 and p.blowout_compensation_reject_pair_low_flag > 0.5) else 0.0
             # (reject_heading_return_flag) the heading the function's own release + build turned the car by, net of the
             # yaw error it had at the detection: the integral of (yaw error - baseline) from the detection to now
-            psi_own = st[S_PSI_ERR] - st[S_GB_R0] * (t - st[S_T_DET])
+            t_psi = st[S_GB_T0] if p.blowout_compensation_heading_return_spin_exit_flag > 0.5 else st[S_T_DET]
+            psi_own = st[S_PSI_ERR] - st[S_GB_R0] * (t - t_psi)
+            # (heading_return_tpms_only_flag) only a TPMS-only detection: the rule's premise is a false TPMS alarm on
+            # a wheel without the blowout's signature; a wheel-speed-only detection is the signature itself
+            tpms_only = (st[S_SOURCES] > SRC_TPMS - 0.5 and st[S_SOURCES] < SRC_TPMS + 0.5) or \
+                p.blowout_compensation_heading_return_tpms_only_flag < 0.5
             if (p.blowout_compensation_reject_heading_return_flag > 0.5 and braking > 0.5 and healthy
-                    and psi_own < 0.0):
+                    and tpms_only and psi_own < 0.0):
                 st[S_GB_ON] = 1.0
                 st[S_GB_PSI] = psi_own
                 st[S_GB_B] = b
@@ -1399,6 +1421,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             st[S_RAMP_T] = 0.0
             st[S_RAMP_DUR] = settling_time_s(v_ref, p)
             st[S_PSI_ERR] = 0.0  # the heading toward the blown side counted again from the exit (for a new spin's exit)
+            st[S_GB_T0] = t  # (heading_return_spin_exit_flag) ... and the baseline taken off from the exit on
             n_events = log_event(events, n_events, t, machine_id, mode, BUILD, G_SPIN_STOPPED)
             mode = BUILD
         elif (code != LIMIT_NONE and not (mode == LIMITED and st[S_LIMIT_CODE] == LIMIT_SPIN_FRONT)

@@ -373,6 +373,16 @@ class SedanBlowoutCompensation(Strict):
     # 0 = the code before (tire_blowout_findings.md J5, session j); 2 (J7) = its steered reference keeps the understeer
     # term at the detection's speed (a held wheel's path does not tighten as the car slows); 1 = J5's (present speed)
     reject_heading_return_flag: Annotated[int, Field(ge=0, le=2)] = 2
+    # (session j, J9) reject_heading_return's detection baseline S_GB_R0 = the mean yaw-rate error over the detection
+    # window (detection_delay_s of the same candidate), not the one sample at the detection; 0 = the code before
+    # (shipped 0, candidate: at 1 the split-mu dry-named row 0.261 -> 2.006 m; tire_blowout_findings.md J9)
+    heading_return_mean_baseline_flag: Annotated[int, Field(ge=0, le=1)] = 0
+    # (session j, J9) reject_heading_return only after a TPMS-only detection (its premise: a false TPMS alarm); 0 = the
+    # code before (any single source, also wheel-speed-only)
+    heading_return_tpms_only_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # (session j, J9) reject_heading_return's caused heading after a spin exit: the baseline taken off from the exit
+    # (where S_PSI_ERR restarts), not from the detection; 0 = the code before
+    heading_return_spin_exit_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # after a rejected FRONT detection (mode REJECTED), while the driver steers a curve, esp.abs_hold_limit's time limit
     # on the ABS hold of both fronts, even with esp.abs_hold_limit_flag 0; 0 = the code before (tire_blowout_findings.md
     # J6, session j)
