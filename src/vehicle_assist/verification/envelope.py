@@ -7,7 +7,12 @@ which it varies, each with its source:
   or ``paths`` (a list of dotted paths) when one value sets several (the four wheel-speed sensors' noise).
 * ``[choices.NAME]`` discrete: ``options.OPTION = { "dotted.path" = value, ... }``; one option may set
   several paths (a surface sets rolling resistance and adhesion); a path whose first part is a profile
-  name sets a parameter of that profile (``"accelerator.rate_per_s" = 5.0``).
+  name sets a parameter of that profile (``"accelerator.rate_per_s" = 5.0``). The key ``events`` (a list of
+  event tables, as ``[[events]]`` of a scenario) APPENDS those events to the base scenario's (a fault from
+  t = 0: ``events = [{ at_s = 0.0, action = "actuator_fault", actuator = "inlet_valve_rl", fault = "stuck_energized" }]``).
+* A range may carry ``when = { CHOICE = [OPTION, ...] }``: it is written only at points where that choice
+  takes one of those options (elsewhere the base value stands); it is still a dimension of every point
+  (a fault's severity: the accumulator pressure only when the fault is a low accumulator).
 * ``[profiles.NAME]`` driver inputs as parameterised shapes: ``kind`` (``pedal`` or ``switch``), the
   scenario ``path`` they write (``driver.accelerator``), and parameters that are numbers or ranges
   ``{ min, max }`` (ranges are envelope dimensions named ``NAME.PARAM``).
@@ -72,9 +77,12 @@ class RangeSpec(Strict):
     max: float
     source: Source
     integer: bool = False
+    when: dict[str, list[Annotated[str, Field(min_length=1)]]] | None = Field(default=None, min_length=1, max_length=1)
 
     @model_validator(mode="after")
     def _order(self):
+        if self.when is not None and not all(self.when.values()):
+            raise ValueError("when: name at least one option of the choice")
         if (self.path is None) == (self.paths is None):
             raise ValueError("give exactly one of path (one scenario path) or paths (a list: one value sets them all)")
         if self.paths is not None and len(set(self.paths)) != len(self.paths):
@@ -92,6 +100,15 @@ class RangeSpec(Strict):
 class ChoiceSpec(Strict):
     options: dict[str, dict[str, Any]] = Field(min_length=1)
     source: Source
+
+    @model_validator(mode="after")
+    def _events(self):
+        for name, sets in self.options.items():
+            ev = sets.get("events")
+            if ev is not None and not (isinstance(ev, list) and ev and all(isinstance(e, dict) for e in ev)):
+                raise ValueError(f"options.{name}.events: give a list of event tables, e.g. "
+                                 "[{ at_s = 0.0, action = \"actuator_fault\", actuator = \"inlet_valve_rl\", fault = \"stuck_energized\" }]")
+        return self
 
 
 class ProfileSpec(Strict):
@@ -139,6 +156,14 @@ class EnvelopeModel(Strict):
         for name in self.profiles:
             if name in ("vehicle", "road", "driver", "run", "sensors", "events", "checks"):
                 raise ValueError(f"profiles.{name}: a profile may not be named like a scenario section")
+        for name, r in self.ranges.items():
+            for choice, options in (r.when or {}).items():
+                if choice not in self.choices:
+                    raise ValueError(f"ranges.{name}.when: no choice {choice!r}{did_you_mean(choice, self.choices)}")
+                bad = [o for o in options if o not in self.choices[choice].options]
+                if bad:
+                    raise ValueError(f"ranges.{name}.when.{choice}: no option {bad[0]!r}"
+                                     f"{did_you_mean(bad[0], self.choices[choice].options)}")
         return self
 
 
@@ -405,6 +430,8 @@ class Envelope:
         paths: dict[str, Any] = {}
         params = {p: {k: v for k, v in prof.params.items() if not isinstance(v, Interval)} for p, prof in m.profiles.items()}
         for name, r in m.ranges.items():
+            if r.when is not None and not all(point.get(c) in opts for c, opts in r.when.items()):
+                continue  # a conditional range (a fault's severity) only where its choice takes those options
             if name in point:
                 value = int(round(float(point[name]))) if r.integer else point[name]  # a whole number (run.seed)
                 for target in r.targets:
@@ -421,7 +448,9 @@ class Envelope:
                 raise InputError(f"{self.where}: choices.{name}: no option {option!r}{did_you_mean(option, c.options)}")
             for path, value in c.options[option].items():
                 head = path.split(".", 1)[0]
-                if head in m.profiles and "." in path:
+                if path == "events":  # appended to the base scenario's events (and to other options' events)
+                    paths["events"] = list(paths.get("events", self.base_scenario.raw.get("events", []))) + list(value)
+                elif head in m.profiles and "." in path:
                     params[head][path.split(".", 1)[1]] = value
                 else:
                     paths[path] = value
