@@ -286,8 +286,9 @@ def _lane_counts(res) -> str:
 def falsify_extra(out_dir: Path):
     """Falsification of data/requirements/tire_blowout.toml over data/envelopes/tire_blowout.toml (the paper's
     feed-forward) and tire_blowout_closed_loop.toml (the optional yaw-rate correction) (issue #10: requirements
-    and an envelope for the falsification engine, with a campaign in reproduce), and the lane bound over
-    tire_blowout_false_alarm.toml (a false TPMS alarm, no blowout; issue #10 'Faults')."""
+    and an envelope for the falsification engine, with a campaign in reproduce), the lane bound over
+    tire_blowout_false_alarm.toml (a false TPMS alarm, no blowout; issue #10 'Faults'), and never-worse over
+    tire_blowout_faults.toml (an inlet valve stuck closed or a low accumulator in both runs; issue #10 'Faults')."""
     from vehicle_assist.verification.falsify import run_falsification, twin_text, write_falsification
 
     figures, entries = [], []
@@ -299,7 +300,11 @@ def falsify_extra(out_dir: Path):
                      # must not pull the car off its lane: the departure the function adds to its twin's (the envelope
                      # holds braking drivers with the wheel fixed in low-friction curves who leave the lane without any
                      # function; the absolute exceedance of both is reported in the entry)
-                     ("tire_blowout_false_alarm", "tire_blowout.no_lane_departure_caused")):
+                     ("tire_blowout_false_alarm", "tire_blowout.no_lane_departure_caused"),
+                     # issue #10 'Faults' (low accumulator; inlet valve stuck closed) over data/envelopes/
+                     # tire_blowout_faults.toml: the same blowout envelope with one fault from t = 0 in BOTH runs
+                     # (the twin has the same fault): never worse than the car without the function
+                     ("tire_blowout_faults", "tire_blowout.no_worse_than_no_compensation")):
         res = run_falsification(env, rid, budget=FALSIFY_BUDGET, seed=FALSIFY_SEED, optimizer="cma", batch=8,
                                 progress=False)
         paths = write_falsification(res, Path(out_dir) / f"falsify_{env}_{rid.split('.')[-1]}")
@@ -315,6 +320,13 @@ def falsify_extra(out_dir: Path):
                         "'Faults'; review RG2's 640-point grid: 16 points where the compensated car leaves the lane and "
                         "the car without the function stays in it; tests/verification/test_blowout_false_alarm_envelope.py "
                         "strict xfail at RG2 k=664)")
+            if env == "tire_blowout_faults":
+                from vehicle_assist.scenarios.runner import simulate
+
+                code = simulate(res.envelope.scenario(cex.point), requirements=False).metrics["blowout_limit_code"]
+                why += ("; the function's run and its twin carry the same fault (the point's fault choice, "
+                        f"{cex.point['fault']}, blown {cex.point['wheel']}); limit code of the function there: {code:g} "
+                        "(0 none, 1 opposite inlet stuck, other axle used, 2 no healthy wheel, 3/4 refused, 5 spin front)")
             why += lane
             value = cex.robustness
         else:
