@@ -129,3 +129,20 @@ def test_cli_bad_fault_restrict_is_one_line_exit_2(tmp_path):
     assert res.exit_code == 2, res.output
     lines = [line for line in res.output.strip().splitlines() if line.strip()]
     assert len(lines) == 1 and "inlet_stuck_xx" in lines[0], res.output
+
+
+def test_stuck_inlet_of_the_compensating_wheel_is_reported_for_every_blown_wheel(env):
+    """Issue #10 'Faults' ("the controller limits its authority and says why"): with the inlet of the compensation's
+    wheel (the opposite wheel of the blown axle, paper 004 P7) stuck closed, the function reports limit code 1
+    (sedan_esp blowout_limit_code: opposite inlet stuck, other axle used) for a blowout on ANY wheel (the shipped
+    blowout_inlet_stuck_60kph covers FL only), and the stuck wheel gets no pressure (0.5 bar, its shipped check)."""
+    from vehicle_assist.scenarios.runner import simulate_batch
+
+    opposite = {"fl": "fr", "fr": "fl", "rl": "rr", "rr": "rl"}
+    pts = [dict(POINT, braking="none", wheel=w, fault=f"inlet_stuck_{opposite[w]}") for w in opposite]
+    names = ["blowout_limit_code", "blowout_opposite_pressure_max_pa", "blowout_detected_wheel_index"]
+    batch = simulate_batch([env.scenario(p).with_sets("run.duration_s=2.0") for p in pts], metric_names=names)
+    for p, m in zip(pts, batch.metrics):
+        assert m["blowout_detected_wheel_index"] == ("fl", "fr", "rl", "rr").index(p["wheel"]), p["wheel"]
+        assert m["blowout_limit_code"] == 1, (p["wheel"], m)
+        assert m["blowout_opposite_pressure_max_pa"] < 0.5 * BAR, (p["wheel"], m)
