@@ -89,7 +89,7 @@ def test_bad_fault_options_give_one_line_errors(env):
     # an options' events that is not a list of tables
     from pydantic import ValidationError
     choices = _model()["choices"]
-    bad = dict(choices, fault={"source": choices["fault"]["source"], "options": {"x": {"events": "stuck"}}})
+    bad = dict(choices, fault={"source": choices["fault"]["source"], "options": {"x": {"append_events": "stuck"}}})
     with pytest.raises(ValidationError, match="list of event tables"):
         EnvelopeModel.model_validate(_model(choices=bad))
     # a conditional range naming no such choice / option
@@ -101,7 +101,7 @@ def test_bad_fault_options_give_one_line_errors(env):
             EnvelopeModel.model_validate(_model(ranges=bad_r))
     # an event the scenario schema rejects (an unknown actuator) is an envelope error naming the option
     bad_ev = dict(choices, fault={"source": choices["fault"]["source"],
-                                 "options": {"inlet_stuck_xx": {"events": [dict(STUCK["rr"], actuator="inlet_valve_xx")]},
+                                 "options": {"inlet_stuck_xx": {"append_events": [dict(STUCK["rr"], actuator="inlet_valve_xx")]},
                                              "low_accumulator": {}}})
     model = EnvelopeModel.model_validate(_model(choices=bad_ev))
     with pytest.raises(InputError) as exc:
@@ -110,13 +110,26 @@ def test_bad_fault_options_give_one_line_errors(env):
     assert "choices.fault.options.inlet_stuck_xx" in text and "inlet_valve_xx" in text and "\n" not in text
 
 
-def test_option_events_are_appended_to_the_base_scenarios_events():
-    """An option's events add to the base scenario's (the false-alarm base has its TPMS alarm at 1 s)."""
+def _kinds(sc):
+    return [(e["action"], e.get("actuator", e.get("sensor"))) for e in sc.raw["events"]]
+
+
+def test_option_append_events_add_to_the_base_scenarios_events_and_events_still_replace():
+    """``append_events`` add to the base scenario's events (the false-alarm base has its TPMS alarm at 1 s); an
+    option's ``events`` still REPLACES them (the false-alarm envelope's wheel choice relies on it)."""
     raw = _model(base="blowout_false_tpms_braking_60kph")
     env = Envelope(EnvelopeModel.model_validate(raw), None)
     sc = env.scenario(dict(POINT, fault="inlet_stuck_fr"), baseline=True)
-    kinds = [(e["action"], e.get("actuator", e.get("sensor"))) for e in sc.raw["events"]]
-    assert kinds == [("sensor_fault", "tpms_alarm_wheel"), ("actuator_fault", "inlet_valve_fr")]
+    assert _kinds(sc) == [("sensor_fault", "tpms_alarm_wheel"), ("actuator_fault", "inlet_valve_fr")]
+    # a replacing option (another choice) and an appending one in the same point: the replacement, then the fault
+    choices = dict(raw["choices"], sensor={"source": "test: a replacing events option",
+                                           "options": {"gyro": {"events": [{"at_s": 1.5, "action": "sensor_fault",
+                                                                             "sensor": "yaw_rate", "fault": "lost"}]}}})
+    raw2 = dict(raw, choices=dict(fault=choices["fault"], sensor=choices["sensor"],
+                                  **{k: v for k, v in choices.items() if k not in ("fault", "sensor")}))
+    env2 = Envelope(EnvelopeModel.model_validate(raw2), None)
+    sc2 = env2.scenario(dict(POINT, fault="inlet_stuck_rl", sensor="gyro"))
+    assert _kinds(sc2) == [("sensor_fault", "yaw_rate"), ("actuator_fault", "inlet_valve_rl")]
 
 
 def test_cli_bad_fault_restrict_is_one_line_exit_2(tmp_path):

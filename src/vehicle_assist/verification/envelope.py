@@ -7,9 +7,10 @@ which it varies, each with its source:
   or ``paths`` (a list of dotted paths) when one value sets several (the four wheel-speed sensors' noise).
 * ``[choices.NAME]`` discrete: ``options.OPTION = { "dotted.path" = value, ... }``; one option may set
   several paths (a surface sets rolling resistance and adhesion); a path whose first part is a profile
-  name sets a parameter of that profile (``"accelerator.rate_per_s" = 5.0``). The key ``events`` (a list of
-  event tables, as ``[[events]]`` of a scenario) APPENDS those events to the base scenario's (a fault from
-  t = 0: ``events = [{ at_s = 0.0, action = "actuator_fault", actuator = "inlet_valve_rl", fault = "stuck_energized" }]``).
+  name sets a parameter of that profile (``"accelerator.rate_per_s" = 5.0``). The path ``events`` REPLACES the
+  base scenario's events (a list of event tables, as ``[[events]]`` of a scenario); the key ``append_events`` APPENDS
+  its events to them (to the base's, or to another option's replacement): a fault from t = 0 in every point,
+  ``append_events = [{ at_s = 0.0, action = "actuator_fault", actuator = "inlet_valve_rl", fault = "stuck_energized" }]``.
 * A range may carry ``when = { CHOICE = [OPTION, ...] }``: it is written only at points where that choice
   takes one of those options (elsewhere the base value stands); it is still a dimension of every point
   (a fault's severity: the accumulator pressure only when the fault is a low accumulator).
@@ -104,10 +105,11 @@ class ChoiceSpec(Strict):
     @model_validator(mode="after")
     def _events(self):
         for name, sets in self.options.items():
-            ev = sets.get("events")
-            if ev is not None and not (isinstance(ev, list) and ev and all(isinstance(e, dict) for e in ev)):
-                raise ValueError(f"options.{name}.events: give a list of event tables, e.g. "
-                                 "[{ at_s = 0.0, action = \"actuator_fault\", actuator = \"inlet_valve_rl\", fault = \"stuck_energized\" }]")
+            for key in ("append_events",):  # (a replacing "events" is validated by the scenario schema)
+                ev = sets.get(key)
+                if ev is not None and not (isinstance(ev, list) and ev and all(isinstance(e, dict) for e in ev)):
+                    raise ValueError(f"options.{name}.{key}: give a list of event tables, e.g. "
+                                     "[{ at_s = 0.0, action = \"actuator_fault\", actuator = \"inlet_valve_rl\", fault = \"stuck_energized\" }]")
         return self
 
 
@@ -440,6 +442,7 @@ class Envelope:
             if "." in d.name and d.name.split(".", 1)[0] in m.profiles and d.name in point:
                 p, k = d.name.split(".", 1)
                 params[p][k] = point[d.name]
+        appended: list = []
         for name, c in m.choices.items():
             if name not in point:
                 continue
@@ -448,12 +451,14 @@ class Envelope:
                 raise InputError(f"{self.where}: choices.{name}: no option {option!r}{did_you_mean(option, c.options)}")
             for path, value in c.options[option].items():
                 head = path.split(".", 1)[0]
-                if path == "events":  # appended to the base scenario's events (and to other options' events)
-                    paths["events"] = list(paths.get("events", self.base_scenario.raw.get("events", []))) + list(value)
+                if path == "append_events":  # added after the base's (or a replacing option's) events, below
+                    appended += list(value)
                 elif head in m.profiles and "." in path:
                     params[head][path.split(".", 1)[1]] = value
                 else:
                     paths[path] = value
+        if appended:
+            paths["events"] = list(paths.get("events", self.base_scenario.raw.get("events", []))) + appended
         end_s = 0.0
         for pname, prof in m.profiles.items():
             pv = params[pname]
