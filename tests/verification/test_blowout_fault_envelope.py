@@ -57,6 +57,9 @@ def test_fault_options_make_the_fault_events_in_both_runs(env, baseline):
     assert "events" not in sc.raw or sc.raw["events"] == []
     assert sc.vehicle.flat()["esp_unit_accumulator_pa"] == 40 * BAR  # spec tire_blowout.md 8 S6
     assert ("vehicle.blowout_compensation.enabled_flag=0" in env.sets(POINT, baseline=True)) is True
+    # a conditional range is named only where it is written (a counterexample's text does not show an unused value)
+    assert "accumulator=" not in env.point_name(POINT)
+    assert "accumulator=40" in env.point_name(dict(POINT, fault="low_accumulator", accumulator=40.0))
 
 
 def test_stuck_inlet_reaches_the_plant_in_the_function_run_and_in_its_twin(env):

@@ -491,6 +491,9 @@ class Envelope:
         parts = []
         for d in self.dims:
             v = point.get(d.name)
+            r = self.model.ranges.get(d.name)
+            if r is not None and r.when is not None and not all(point.get(c) in o for c, o in r.when.items()):
+                continue  # a conditional range not written at this point (e.g. the accumulator of an inlet fault)
             parts.append(f"{d.name}={v}" if d.kind == "discrete" else f"{d.name}={v:.4g}")
         return ", ".join(parts)
 
