@@ -17,7 +17,11 @@ Per period:
    (``reference_braking_rise_limit_flag``) ONE wheel lifts the reference at most at a_x + ``reference_braking_rise_
    margin_mps2`` whatever its valves do (ABS practice: the reference's rise is limited to the largest possible vehicle
    acceleration; an ABS-dumped flat front spinning up to its smaller radius carried it 25.2 -> 32.6 m/s in 0.3 s,
-   finding G8); the second fastest wheel lifts it freely (two wheels agreeing show the car's speed).
+   finding G8); the second fastest wheel lifts it freely (two wheels agreeing show the car's speed). A lone fast wheel
+   with valve activity is judged too when two other wheels have been unbraked (pressure estimate below
+   plausibility_pressure) for ``reference_braking_abs_quiet_time_s`` (``reference_unbraked_outlier_flag``): an
+   unbraked wheel turns at the car's speed (K5: a rear blown at the pedal held the reference over a car whose four
+   wheels the ABS had dumped to 1 bar).
 2. Pressure-sensor health: valid flag from the sensor, plus plausibility against the brake-light switch
    (switch on with p_mc below ``plausibility_pressure`` for ``plausibility_time``, or off with p_mc above it,
    latches a fault).
