@@ -17,7 +17,11 @@ Per period:
    (``reference_braking_rise_limit_flag``) ONE wheel lifts the reference at most at a_x + ``reference_braking_rise_
    margin_mps2`` whatever its valves do (ABS practice: the reference's rise is limited to the largest possible vehicle
    acceleration; an ABS-dumped flat front spinning up to its smaller radius carried it 25.2 -> 32.6 m/s in 0.3 s,
-   finding G8); the second fastest wheel lifts it freely (two wheels agreeing show the car's speed).
+   finding G8); the second fastest wheel lifts it freely (two wheels agreeing show the car's speed). A lone fast wheel
+   with valve activity is judged too when two other wheels have been unbraked (pressure estimate below
+   plausibility_pressure) for ``reference_braking_abs_quiet_time_s`` (``reference_unbraked_outlier_flag``): an
+   unbraked wheel turns at the car's speed (K5: a rear blown at the pedal held the reference over a car whose four
+   wheels the ABS had dumped to 1 bar).
 2. Pressure-sensor health: valid flag from the sensor, plus plausibility against the brake-light switch
    (switch on with p_mc below ``plausibility_pressure`` for ``plausibility_time``, or off with p_mc above it,
    latches a fault).
@@ -125,8 +129,11 @@ CTL_SIZE = 22
 # while braking latched the GMA on the healthy wheel it had released, 3-10 bar for ~1 s, 1.12 m off the lane)
 # per-wheel state (rows fl, fr, rl, rr)
 A_MODE, A_BUILD_S, A_VW_PREV, A_SINCE_HD_S, A_LOGGED, A_SLIP, A_DECEL, A_REQUEST, A_WHEEL_MODE, A_P_EST, \
-    A_INLET_OPEN_S, A_ABS_QUIET_S, A_VALVE_QUIET_S, A_HOLD_S, A_HOLD_SUM, A_HOLD_PREV, A_P_LINE = range(17)
-WHEEL_STATE_SIZE = 17
+    A_INLET_OPEN_S, A_ABS_QUIET_S, A_VALVE_QUIET_S, A_HOLD_S, A_HOLD_SUM, A_HOLD_PREV, A_P_LINE, A_UNBRAKED_S = range(18)
+WHEEL_STATE_SIZE = 18
+# A_UNBRAKED_S: time since the wheel's estimated pressure (the higher of A_P_EST and A_P_LINE) was last at or above
+# plausibility_pressure (the brake not applied below it): a wheel unbraked that long rolls at the car's speed
+# (reference_unbraked_outlier_flag, braking_outlier)
 # A_P_LINE: the same estimate with mode N through the line lag (pressure_estimate_line_flag >= 2: kept alongside A_P_EST
 # and read where a dump's start is stored as a lock level - S_P_PREDUMP, and with lock_level_line_flag braking_lock_floor's
 # level and C_LOCK_P0/1 - and where the wheel is compared with those levels)
@@ -143,6 +150,7 @@ def initial_state() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     wheels[:, A_ABS_QUIET_S] = 1e9
     wheels[:, A_VALVE_QUIET_S] = 1e9
     wheels[:, A_HOLD_PREV] = -1.0
+    wheels[:, A_UNBRAKED_S] = 1e9
     ctl = np.zeros(CTL_SIZE)
     ctl[C_REF_EXCLUDED] = -1.0
     return ctl, wheels, hba.initial_state()
@@ -180,19 +188,37 @@ def fastest_two(vw, ex):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def braking_outlier(vw, ex, abs_quiet_s, p):
+def braking_outlier(vw, ex, abs_quiet_s, p, unbraked_s=None):
     """While braking: the wheel that may be implausibly fast (a blown or too-small tire), else -1. It is the fastest
     wheel other than the excluded ``ex``, alone: more than ``reference_implausible_frac`` above the SECOND fastest (a
     smaller rolling radius makes one wheel fast; a reference drifted low under a whole-car slip sees several wheels,
     or one wheel the ABS released, come back), and without valve activity for ``reference_braking_abs_quiet_time_s``
     (``abs_quiet_s``; None: all quiet): a wheel whose inlet was closed or outlet opened (its own ABS, the rear
-    select-low, the GMA) is recovering toward the car's speed from below, never a fast tire's signature."""
+    select-low, the GMA) is recovering toward the car's speed from below, never a fast tire's signature - unless
+    (``reference_unbraked_outlier_flag``, ``unbraked_s`` = A_UNBRAKED_S) two other wheels have been unbraked for that
+    time: a wheel without brake torque rolls at the car's speed, so a wheel faster than them by the band is above the
+    car's speed whatever its valves do (K5, r41 #212: a rear blown at the pedal, its valves kept busy by the rear
+    select-low, carried the reference 10.5 m/s over a car at 8 m/s; the ABS then dumped all four wheels to 1 bar)."""
     first, v1, v2 = fastest_two(vw, ex)
     if first < 0 or v1 <= v2 * (1.0 + p.esp_reference_implausible_frac):
         return -1
     if abs_quiet_s is not None and abs_quiet_s[first] < p.esp_reference_braking_abs_quiet_time_s - 1e-9:
-        return -1
+        if unbraked_others(unbraked_s, first, ex, p) < 2:
+            return -1
     return first
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def unbraked_others(unbraked_s, first, ex, p):
+    """How many wheels other than ``first`` and ``ex`` have been unbraked (A_UNBRAKED_S) for at least
+    ``reference_braking_abs_quiet_time_s`` (0 with ``reference_unbraked_outlier_flag`` = 0 or no ``unbraked_s``)."""
+    n = 0
+    if unbraked_s is None or p.esp_reference_unbraked_outlier_flag < 0.5:
+        return 0
+    for i in range(4):
+        if i != first and i != ex and unbraked_s[i] >= p.esp_reference_braking_abs_quiet_time_s - 1e-9:
+            n += 1
+    return n
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -209,7 +235,7 @@ def braking_onset(ctl, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def plausible_reference(ctl, vw, braking, p, dt, a_x=0.0, abs_quiet_s=None, valve_quiet_s=None):
+def plausible_reference(ctl, vw, braking, p, dt, a_x=0.0, abs_quiet_s=None, valve_quiet_s=None, unbraked_s=None):
     """Wheel-signal plausibility of the reference speed (module doc, step 1): updates ``ctl[C_REF_EXCLUDED]`` and
     returns (max of the plausible wheels, True when the excluded wheel changed this period). ``a_x``: measured
     longitudinal acceleration; ``abs_quiet_s``: per wheel, time since its ABS mode was last other than OFF (None: all
@@ -230,8 +256,11 @@ def plausible_reference(ctl, vw, braking, p, dt, a_x=0.0, abs_quiet_s=None, valv
             # past the pedal onset only a lone, valve-quiet fast wheel (braking_outlier) is judged (ice, a_x
             # over-reading deceleration by 1.4 m/s^2: the reference drifted low, RL - released by the rear select-low,
             # own ABS mode off - was the wheel nearest the car's speed and was left out; the other three locked 0.49 s)
-            cand = braking_outlier(vw, ex, valve_quiet_s, p)
-            if cand >= 0 and vw[cand] > hi * (1.0 + p.esp_reference_implausible_frac):
+            cand = braking_outlier(vw, ex, valve_quiet_s, p, unbraked_s)
+            if cand >= 0 and (vw[cand] > hi * (1.0 + p.esp_reference_implausible_frac)
+                              or unbraked_others(unbraked_s, cand, ex, p) >= 2):
+                # (reference_unbraked_outlier_flag) two unbraked wheels show the car's speed: a wheel above them by
+                # the band is left out even when the reference already rides it (it cannot rise above itself)
                 fast = cand
         elif np.median(vw) > p.esp_abs_min_speed_mps:
             # at the pedal onset (or always with reference_braking_outlier_flag = 0, the seeded defect: 968b8ea) any
@@ -361,7 +390,7 @@ def abs_hold_limit(wheels, i, new, slip, p, dt):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def reference_update(ctl, vw_arr, v_plaus, ref_changed, bls, a_x, valve_quiet_s, p, dt):
+def reference_update(ctl, vw_arr, v_plaus, ref_changed, bls, a_x, valve_quiet_s, p, dt, unbraked_s=None):
     """The reference speed of this period from the plausible wheels' max ``v_plaus`` (module doc, step 1): the fall
     bound (accelerometer + margin) always, the rise bounds while braking (``reference_braking_plausibility_flag``,
     ``reference_braking_rise_limit_flag``); ``ctl[C_V_REF]`` holds the previous value (not written here)."""
@@ -381,7 +410,7 @@ def reference_update(ctl, vw_arr, v_plaus, ref_changed, bls, a_x, valve_quiet_s,
                 # persists: the other wheels lift the reference freely (a wheel coming back from a release, or several
                 # wheels together, show the car's speed: a reference drifted low must rise back to them)
                 ex_now = int(ctl[C_REF_EXCLUDED])
-                cand = braking_outlier(vw_arr, ex_now, valve_quiet_s, p)
+                cand = braking_outlier(vw_arr, ex_now, valve_quiet_s, p, unbraked_s)
                 if cand >= 0:
                     v_rest = 0.0
                     for i in range(4):
@@ -431,9 +460,10 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
     bls = meas.brake_light_switch_flag > 0.5
     ctl[C_BRAKED_S] = ctl[C_BRAKED_S] + dt if bls else 0.0
     v_plaus, ref_changed = plausible_reference(ctl, vw_arr, bls, p, dt, meas.longitudinal_accel_mps2,
-                                               wheels[:, A_ABS_QUIET_S], wheels[:, A_VALVE_QUIET_S])
+                                               wheels[:, A_ABS_QUIET_S], wheels[:, A_VALVE_QUIET_S],
+                                               wheels[:, A_UNBRAKED_S])
     v_ref = reference_update(ctl, vw_arr, v_plaus, ref_changed, bls, meas.longitudinal_accel_mps2,
-                             wheels[:, A_VALVE_QUIET_S], p, dt)
+                             wheels[:, A_VALVE_QUIET_S], p, dt, wheels[:, A_UNBRAKED_S])
     if blown >= 0:
         v_ref = v_ref_intact  # a blown wheel turns faster (smaller radius): the reference ignores it
     ctl[C_V_REF] = v_ref
@@ -928,6 +958,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # estimate jumps to: ABS may dump the pair before the line has filled it (35 bar of 81, 120 km/h 500 N)
             wheels[i, A_P_EST] = bst[bc.S_REAPPLY_P]
         wheels[i, A_INLET_OPEN_S] = wheels[i, A_INLET_OPEN_S] + dt if (wm == W_B or wm == W_BP) else 0.0
+        unbraked = max(wheels[i, A_P_EST], wheels[i, A_P_LINE]) < p.esp_plausibility_pressure_pa
+        wheels[i, A_UNBRAKED_S] = wheels[i, A_UNBRAKED_S] + dt if unbraked else 0.0
     return n_events
 
 

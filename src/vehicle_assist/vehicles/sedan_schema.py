@@ -175,6 +175,11 @@ class SedanEsp(Strict):
     # whatever its valves do); 0 = defect (G8: an ABS-active flat front carried the reference 25.2 -> 32.6 m/s in 0.3 s)
     reference_braking_rise_limit_flag: Annotated[int, Field(ge=0, le=1)] = 1
     reference_braking_rise_margin_mps2: Annotated[float, Field(gt=0, le=10)] = 2.0
+    # while braking past the onset a lone fast wheel is left out whatever its valves do when two other wheels have been
+    # unbraked (estimate < plausibility_pressure) for reference_braking_abs_quiet_time_s: an unbraked wheel rolls at
+    # the car's speed; 0 = defect (K5, r41 #212: a blown rear, valves busy via the select-low, held the reference 10.5
+    # m/s over a car at 8 m/s and the ABS dumped all four wheels to 1 bar)
+    reference_unbraked_outlier_flag: Annotated[int, Field(ge=0, le=1)] = 1
     plausibility_time_s: Annotated[float, Field(gt=0, le=5)]
     plausibility_pressure_bar: Annotated[float, Field(gt=0, le=50)]
 
