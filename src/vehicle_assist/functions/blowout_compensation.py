@@ -39,7 +39,9 @@ IDLE -> LIMITED (inlet_valve_stuck): the opposite wheel's inlet is diagnosed stu
 intact wheel of the other axle on the opposite side takes over, capped at the ECU's lock estimate
 mu*F'_z*R/K_b (authority limited: its moment arm/brake are smaller) - limit code 1 and the guard name say why;
 code 2 if that wheel's inlet is stuck as well (no authority). BUILD/HOLD -> LIMITED (inlet_valve_stuck): the
-same diagnosis arriving after the detection.
+same diagnosis arriving after the detection. With a REAR blown (the substitute a front) the front on the
+blown side - its brake a moment toward the blown side - is released beyond the ESP's yaw rates (``substitute_yaw_limit``,
+``substitute_yaw_limit_flag``, 0 = the code before; tire_blowout_findings.md K2).
 BUILD -> HOLD (valve_time_elapsed).
 BUILD/HOLD/LIMITED -> REJECTED (yaw_implausible), single-source detections only: the car yaws away from the
 presumed blown side by more than ``abort_yaw_rate`` (yaw rate minus the steady-state yaw rate of the measured
