@@ -39,7 +39,9 @@ IDLE -> LIMITED (inlet_valve_stuck): the opposite wheel's inlet is diagnosed stu
 intact wheel of the other axle on the opposite side takes over, capped at the ECU's lock estimate
 mu*F'_z*R/K_b (authority limited: its moment arm/brake are smaller) - limit code 1 and the guard name say why;
 code 2 if that wheel's inlet is stuck as well (no authority). BUILD/HOLD -> LIMITED (inlet_valve_stuck): the
-same diagnosis arriving after the detection.
+same diagnosis arriving after the detection. With a REAR blown (the substitute a front) the front on the
+blown side - its brake a moment toward the blown side - is released beyond the ESP's yaw rates (``substitute_yaw_limit``,
+``substitute_yaw_limit_flag``, 0 = the code before; tire_blowout_findings.md K2).
 BUILD -> HOLD (valve_time_elapsed).
 BUILD/HOLD/LIMITED -> REJECTED (yaw_implausible), single-source detections only: the car yaws away from the
 presumed blown side by more than ``abort_yaw_rate`` (yaw rate minus the steady-state yaw rate of the measured
@@ -1561,12 +1563,41 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, requests, p, dt, v_ref)
     if p.blowout_compensation_braking_rule_flag > 0.5:
         braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref, a_y_meas, v_ref)
+    if (p.blowout_compensation_substitute_yaw_limit_flag > 0.5 and mode == LIMITED
+            and st[S_LIMIT_CODE] == LIMIT_OTHER_AXLE and b >= 2 and 0 <= tg < 2):
+        substitute_yaw_limit(b, tg, yaw_rate, p_est, requests, p)
     if st[S_GB_ON] > 0.5:
         y_gb = yaw_rate
         if p.blowout_compensation_reject_heading_return_flag > 1.5:
             y_gb = yaw_rate_meas - heading_return_reference(steer_rad, v_ref, st[S_GB_U0], p)
         reject_heading_return(st, mode, braking, y_gb, v_ref, p_est, requests, p, dt)
     return n_events
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def substitute_yaw_limit(b, tg, yaw_err, p_est, requests, p):
+    """``substitute_yaw_limit_flag`` (0 = the code before; tire_blowout_findings.md K2, session k). LIMITED on the
+    substitute front (a REAR blowout b whose opposite rear's inlet is stuck closed, limit code 1: ``_substitute`` brakes
+    the front on the other side): the front on the BLOWN side is the front whose brake force yaws the car toward the
+    blown side - the direction the flat tire already pulls. Without the function the ESP's yaw-moment limitation (GMA,
+    functions/esp.py: a front wheel is held while the yaw rate toward its side exceeds esp.yaw_hold_rate and dumped
+    above esp.yaw_dump_rate; Bosch Automotive Handbook, ABS/ESP yaw-moment limitation) governs that wheel as soon as
+    the other front's ABS cycles alone; with the function the compensation's block masks the substitute's ABS activity
+    and ends a GMA already running on the blown side's front (esp.py: 'a GMA the compensation's wheel started is not
+    a split-mu GMA'), so the blown side's front went to the driver's / pump pressure and its brake moment cancelled the
+    substitute's (bb47 #99: FL 1 -> 46 bar at the detection against the twin's 1 bar). The same yaw limitation with the
+    same two thresholds, on the yaw error the compensation judges (net of the steered reference, ``yaw_err``; the raw
+    yaw rate, as the GMA, counted a curve toward the blown side and made 23 points worse by > 0.05 m against 8):
+    beyond esp.yaw_dump_rate the blown side's front is released; beyond esp.yaw_hold_rate it is released while it is
+    more than 1 bar above the substitute (the GMA limits the fronts' pressure DIFFERENCE; a 'hold' request is not
+    available here - Q_HOLD re-builds a wheel to the compensation's target S_P_REQ, functions/esp.py). The substitute
+    itself is left to the compensation and ABS. 444 stuck rear points: 62 never-worse violations -> 23 (findings K2)."""
+    w = b - 2  # the front on the blown side
+    toward = toward_blown_side(b, yaw_err)
+    if toward > p.esp_yaw_dump_rate_radps:
+        requests[w] = Q_RELEASE
+    elif toward > p.esp_yaw_hold_rate_radps and p_est[w] > p_est[tg] + 1.0e5:
+        requests[w] = Q_RELEASE
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")

@@ -400,6 +400,11 @@ class SedanBlowoutCompensation(Strict):
     # (neither esp.abs_hold_limit_flag nor rejected_hold_limit_flag's gate); 0 = the code before (frozen: a later
     # gated-on hold continued a stale window, review RJ3, session j)
     rejected_hold_reset_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # LIMITED on the substitute front (rear blowout, the opposite rear's inlet stuck, limit code 1): the OTHER front (the
+    # blown side's) released while the yaw error toward the blown side exceeds esp.yaw_dump_rate, or exceeds
+    # esp.yaw_hold_rate with that front more than 1 bar above the substitute (the ESP's GMA yaw limitation, which the
+    # compensation's GMA block had ended/masked there); 0 = the code before (tire_blowout_findings.md K2, session k)
+    substitute_yaw_limit_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
