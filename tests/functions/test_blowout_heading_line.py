@@ -7,12 +7,17 @@ ECU's A_P_EST of a mode-N wheel is the master-cylinder pressure at once, the lin
 FL 100-119 bar while the wheel held 51-53 bar, FR 43-55 bar - the rule was armed for 460 periods and never released.
 
 Flag values: 0 = the code before (A_P_EST of both fronts); 1 = A_P_LINE of both fronts, no braking bound (RJ2's throw-
-away variant: the shipped false alarm stopped 38.41 m vs 34.64 m without the function); 2 (shipped) = A_P_LINE and the
+away variant: the shipped false alarm stopped 38.41 m vs 34.64 m without the function); 2 (candidate) = A_P_LINE and the
 released front never below half the other front's pressure (front axle keeps >= 0.75 of its brake force: UN R13-H Annex
 6 para 5.2, an anti-lock system's adhesion utilisation epsilon >= 0.75, transposed onto the axle the rule acts on).
 
 The pressures below are the ones RJ2 read from the fa9 trace (independent of this rule's parameters); the rate error
 is the rule's own input. Each row fails with the flag value named in it.
+
+SHIPPED 0 (K3): value 2 turns test_blowout_rear_yaw_sense.py::test_false_fr_alarm_in_a_left_curve_as_shipped_no_worse_
+than_none red (650 m 1.610 -> 3.537 m, 1000 m 0.806 -> 2.398 m vs none 2.445 / 1.514): with a true comparison pressure
+the rule acts, and it regulates the braking car's own understeer in a curve (status j item 3 C). The shipped
+configuration's claim at fa9 is therefore a strict xfail below (an honest red: A is open).
 """
 from __future__ import annotations
 
@@ -65,6 +70,8 @@ def test_fa9_rule_releases_on_the_line_estimate(flag, released):
     assert req[0] != bc.Q_RELEASE and req[2] == bc.Q_NONE and req[3] == bc.Q_NONE
 
 
+@pytest.mark.xfail(strict=True, reason="shipped heading_return_line_flag = 0: the comparison front's A_P_EST is the "
+                   "master's pressure in mode N, the rule never releases at fa9 (status j item 3 A, open; K3)")
 def test_fa9_shipped_releases():
     """The claim for the shipped configuration (the toml's value; fails with it at 0: FR is not released)."""
     assert _requests(None, FA9_EST, FA9_LINE, E_FA9)[1] == bc.Q_RELEASE
@@ -84,6 +91,6 @@ def test_release_above_half_the_other_front_still_allowed():
     assert _requests(2, (100.0, 60.0, 30.0, 30.0), (100.0, 60.0, 30.0, 30.0), np.radians(-20.0))[1] == bc.Q_RELEASE
 
 
-def test_shipped_release_stops_at_half_the_other_front():
-    """The bound for the shipped configuration (the toml's value; fails with it at 1 or 0)."""
-    assert _requests(None, (100.0, 45.0, 30.0, 30.0), (100.0, 45.0, 30.0, 30.0), np.radians(-20.0))[1] != bc.Q_RELEASE
+def test_candidate_release_stops_at_half_the_other_front():
+    """The bound of the candidate value 2 (fails at 1 or 0)."""
+    assert _requests(2, (100.0, 45.0, 30.0, 30.0), (100.0, 45.0, 30.0, 30.0), np.radians(-20.0))[1] != bc.Q_RELEASE
