@@ -358,6 +358,11 @@ S_GB_RN = S_GB_RSUM + 1
 # reset S_PSI_ERR (the baseline is taken off the integral over that time only)
 S_GB_T0 = S_GB_RN + 1
 STATE_SIZE = S_GB_T0 + 1
+# (heading_return_line_flag, session k K3) the fraction of the other front's pressure the heading return may take off the
+# released front: with it the front axle keeps (2 - 0.5)/2 = 0.75 of its brake force, UN R13-H Annex 6 para 5.2's
+# minimum adhesion utilisation epsilon >= 0.75 of an anti-lock car transposed onto the axle the rule acts on (assumed
+# transposition: the paper and spec state no stopping bound for a false alarm)
+HEADING_RETURN_AXLE_KEEP_FRAC = 0.5
 SLIP_PERSIST_S = 0.02  # assumed: the rear slip limit acts after its filtered slip stays above the cap for 4 ESP periods
 #   (as the capacity rule's CAP_PERSIST_S): one noisy sample above the cap no longer dumps and latches the target
 RAW_SIGMAS = 6.0  # assumed: a raw slip sample above the cap by 6 x the noise the free wheels show acts at once (Gaussian
@@ -1674,7 +1679,20 @@ def reject_heading_return(st, mode, braking, yaw_rate, v_ref, p_est, requests, p
     # driver's and ABS's again (a release only: never above what the pedal asks)
     dp = required_pressure_pa(p.body_yaw_inertia_kgm2 * abs(e) / (0.25 * t_s), p.body_wheel_radius_m,
                               0.5 * p.chassis_front_track_m, p.brakes_front_gain_nm_per_pa)
-    if p_est[w] > p_est[OPPOSITE[w]] - dp:
+    if p.blowout_compensation_heading_return_line_flag > 0.5:
+        # (heading_return_line_flag, session k K3; 0 = the code before: A_P_EST of both fronts) the released front and
+        # the front it is compared with on ONE estimate, the line-lag A_P_LINE (esp.lock_level_line_flag's): after the
+        # rejection the comparison front is often the re-applied rejected front, whose A_P_EST in mode N is the master's
+        # pressure at once (fa9: 100-119 bar while the wheel held 51-53) - the rule never released. And a braking bound:
+        # the released front never below half the other front's pressure, so the front axle keeps >= 0.75 of its brake
+        # force (UN R13-H Annex 6 para 5.2: an anti-lock car's adhesion utilisation epsilon >= 0.75; the rears untouched)
+        p_w = st[S_P_LINE + w]
+        p_o = st[S_P_LINE + OPPOSITE[w]]
+        if p.blowout_compensation_heading_return_line_flag > 1.5:  # (value 1: the line estimate, no bound - RJ2's copy)
+            dp = min(dp, HEADING_RETURN_AXLE_KEEP_FRAC * p_o)
+        if p_w > p_o - dp:
+            requests[w] = Q_RELEASE
+    elif p_est[w] > p_est[OPPOSITE[w]] - dp:
         requests[w] = Q_RELEASE
 
 

@@ -388,6 +388,12 @@ class SedanBlowoutCompensation(Strict):
     # (session j, J9) reject_heading_return's caused heading after a spin exit: the baseline taken off from the exit
     # (where S_PSI_ERR restarts), not from the detection; 0 = the code before
     heading_return_spin_exit_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # (session k, K3) reject_heading_return compares the released front with the other front on the line-lag estimate
+    # A_P_LINE (one estimate) and never takes it below half the other front's pressure (front axle keeps >= 0.75 of its
+    # brake force, UN R13-H Annex 6 5.2 epsilon >= 0.75); 1 = the line estimate without the bound (RJ2's throw-away
+    # variant, the bound's seeded defect); 0 = the code before (A_P_EST, no bound) - SHIPPED 0: value 2 turns the
+    # shipped false FR alarm in a left curve red (tire_blowout_findings.md K3)
+    heading_return_line_flag: Annotated[int, Field(ge=0, le=2)] = 0
     # after a rejected FRONT detection (mode REJECTED), while the driver steers a curve, esp.abs_hold_limit's time limit
     # on the ABS hold of both fronts, even with esp.abs_hold_limit_flag 0; 0 = the code before (tire_blowout_findings.md
     # J6, session j)
