@@ -241,3 +241,10 @@ def understeer_hold_state(*sets: str):
     st[bc.S_P_START] = 0.0
     st[bc.S_CAP_LATCHED] = 0.0
     return bc, st, p
+
+
+def packed_params(scenario: str, *sets: str):
+    """The packed vehicle parameters of a shipped scenario with ``sets`` applied (controller unit tests that step a
+    function's ``step`` directly: the sedan's ESP of hba_snow_60kph, the SUV's of the blowout scenarios)."""
+    from vehicle_assist.scenarios.runner import pack_records
+    return pack_records([va.load_scenario(scenario, list(sets)).vehicle.flat()])[0]

@@ -24,6 +24,7 @@ import pytest
 
 import vehicle_assist as va
 from vehicle_assist.functions import esp
+from tests.support import packed_params
 
 DT = 0.005  # ESP period (vehicle file esp.period_s)
 DEFECT = "vehicle.esp.reference_unbraked_outlier_flag=0"
@@ -38,9 +39,7 @@ R41_212 = {"speed": 48.87702133432696, "mu": 0.48190080423043014, "delay": 0.477
 
 def _params(sets=()):
     """The SEDAN's packed parameters (brake assist, paper 002; hba_snow_60kph runs sedan_1p8t)."""
-    from vehicle_assist.scenarios.runner import pack_records
-
-    return pack_records([va.load_scenario("hba_snow_60kph", list(sets)).vehicle.flat()])[0]
+    return packed_params("hba_snow_60kph", *sets)
 
 
 @pytest.fixture(scope="module")
