@@ -47,7 +47,9 @@ def test_envelope_loads_with_the_blowout_dimensions_plus_the_fault_and_is_listed
 @pytest.mark.parametrize("baseline", [False, True])
 def test_fault_options_make_the_fault_events_in_both_runs(env, baseline):
     for w in ("fl", "fr", "rl", "rr"):
-        sc = env.scenario(dict(POINT, fault=f"inlet_stuck_{w}"), baseline=baseline)
+        # accumulator 40 bar at an inlet point: must NOT reach the vehicle (review RK2: with POINT's 120 bar = the
+        # file's value, a sets() that ignored ``when`` passed this test)
+        sc = env.scenario(dict(POINT, fault=f"inlet_stuck_{w}", accumulator=40.0), baseline=baseline)
         assert sc.raw["events"] == [STUCK[w]]  # written by hand from blowout_inlet_stuck_60kph
         assert sc.flat["event_count"] == 1.0
         assert sc.flat["event_target"][0] == 2 + ("fl", "fr", "rl", "rr").index(w)  # sedan_esp.ACTUATORS
@@ -111,6 +113,21 @@ def test_bad_fault_options_give_one_line_errors(env):
         Envelope(model, None).validate_points()
     text = str(exc.value)
     assert "choices.fault.options.inlet_stuck_xx" in text and "inlet_valve_xx" in text and "\n" not in text
+
+
+def test_conditional_range_ends_are_validated_where_the_range_is_written():
+    """A conditional range's bound outside the scenario schema (esp_unit.accumulator_bar <= 400 bar) is an envelope
+    error at load (validate_points), naming the range - not a mid-search error at the first low_accumulator point
+    (review RK2: validate_points built the ends at the centre, whose fault is an inlet option, where the range is
+    not written, so max = 500 loaded)."""
+    ranges = _model()["ranges"]
+    bad_r = dict(ranges, accumulator=dict(ranges["accumulator"], max=500.0))
+    env = Envelope(EnvelopeModel.model_validate(_model(ranges=bad_r)), None)
+    assert env.center()["fault"] != "low_accumulator"  # the centre does not write the range (the case reviewed)
+    with pytest.raises(InputError) as exc:
+        env.validate_points()
+    text = str(exc.value)
+    assert "accumulator = 500" in text and "accumulator_bar" in text and "\n" not in text
 
 
 def _kinds(sc):

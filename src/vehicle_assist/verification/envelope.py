@@ -499,11 +499,16 @@ class Envelope:
 
     def validate_points(self) -> None:
         """Build the scenario at the centre and at both ends of every dimension (and each option): any
-        override the scenario schema rejects is reported as an envelope error naming the dimension."""
+        override the scenario schema rejects is reported as an envelope error naming the dimension. A conditional
+        range (``when``) is checked at a point where it is written (its choice at the first option it names):
+        elsewhere its value is not used, so a bound outside the scenario schema would only fail mid-search."""
         centre = self.center()
         for d in self.dims:
+            r = self.model.ranges.get(d.name)
             for value in (d.options if d.kind == "discrete" else (d.lo, d.hi)):
                 point = dict(centre, **{d.name: value})
+                if r is not None and r.when is not None:
+                    point.update({c: opts[0] for c, opts in r.when.items()})
                 for baseline in (False, True):
                     try:
                         self.scenario(point, baseline)
