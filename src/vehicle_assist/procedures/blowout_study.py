@@ -325,8 +325,9 @@ def falsify_extra(out_dir: Path):
 
                 code = simulate(res.envelope.scenario(cex.point), requirements=False).metrics["blowout_limit_code"]
                 why += ("; the function's run and its twin carry the same fault (the point's fault choice, "
-                        f"{cex.point['fault']}, blown {cex.point['wheel']}); limit code of the function there: {code:g} "
-                        "(0 none, 1 opposite inlet stuck, other axle used, 2 no healthy wheel, 3/4 refused, 5 spin front)")
+                        f"{cex.point['fault']}, blown {cex.point['wheel']}); highest limit code of the function's run: {code:g} "
+                        "(0 none, 1 opposite inlet stuck, other axle used, 2 opposite inlet and its substitute both stuck, "
+                        "3/4 refused, 5 spin front; the highest over the run, so a later refusal hides an earlier 1)")
             why += lane
             value = cex.robustness
         else:
