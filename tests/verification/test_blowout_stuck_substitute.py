@@ -16,9 +16,9 @@ FL rises to 30-36 bar against the substitute FR's 25-30 bar: yaw toward RL 0.30 
 The rule: in LIMITED (limit code 1, rear blown) the blown side's front is released while the yaw error toward the blown
 side (net of the steered reference) exceeds esp.yaw_dump_rate, and while it exceeds esp.yaw_hold_rate with that front more
 than 1 bar above the substitute (the GMA's two thresholds; no new threshold). Review RK1 (session k): with the hold branch
-the blown side's front is not held where it is, as the GMA holds, but kept near the substitute's pressure - P22's LIMITED
-1.45-3.0 s: FL - FR -5.9 bar mean (twin, GMA: -27.3 bar), FL cycling dump / driver's re-apply every ~40 ms; hence the thin
-margin of the never-worse row (0.065 m).
+the blown side's front is not held between the two rates (the GMA holds it there): its own ABS pulsed re-build (HBA pump)
+lifts it again after each release - P22's LIMITED 1.45-3.0 s: FL 21-30 bar sawtooth every ~40 ms, FL - FR -5.9 bar mean
+(twin, GMA: -27.3 bar); hence the thin margin of the never-worse row (0.065 m).
 
 References, independent of the function's code: requirement tire_blowout.no_worse_than_no_compensation with the SAME
 fault in both cars (the twin: the car without compensation, paper 004 Fig. 4 curve 2); the ESP's own yaw-dump rate
