@@ -13,8 +13,12 @@ blowout detected at 1.31 s before the pedal at 1.40 s): the twin's GMA dumps FL 
 FL rises to 30-36 bar against the substitute FR's 25-30 bar: yaw toward RL 0.30 rad/s, refused at 2.79 s (limit code 3),
 19.578 m vs the twin's 11.507 m.
 
-The rule: in LIMITED (limit code 1, rear blown) the blown side's front is released while the yaw rate toward the blown
-side exceeds esp.yaw_dump_rate (the GMA's dump threshold; no new threshold).
+The rule: in LIMITED (limit code 1, rear blown) the blown side's front is released while the yaw error toward the blown
+side (net of the steered reference) exceeds esp.yaw_dump_rate, and while it exceeds esp.yaw_hold_rate with that front more
+than 1 bar above the substitute (the GMA's two thresholds; no new threshold). Review RK1 (session k): with the hold branch
+the blown side's front is not held between the two rates (the GMA holds it there): its own ABS pulsed re-build (HBA pump)
+lifts it again after each release - P22's LIMITED 1.45-3.0 s: FL 21-30 bar sawtooth every ~40 ms, FL - FR -5.9 bar mean
+(twin, GMA: -27.3 bar); hence the thin margin of the never-worse row (0.065 m).
 
 References, independent of the function's code: requirement tire_blowout.no_worse_than_no_compensation with the SAME
 fault in both cars (the twin: the car without compensation, paper 004 Fig. 4 curve 2); the ESP's own yaw-dump rate
@@ -70,7 +74,8 @@ def test_22_goes_limited_on_the_substitute(runs):
 
 
 def test_22_stuck_rr_never_worse_than_without_compensation(runs):
-    """Requirement no_worse_than_no_compensation with the same fault in both cars (measured 9.06 vs 11.51 m)."""
+    """Requirement no_worse_than_no_compensation with the same fault in both cars (rollback_floor_m 0: the function's run
+    max <= the twin's; measured at main 3668eaf 11.442 vs 11.507 m, a margin of 0.065 m)."""
     on, none = runs["on"].metrics[METRIC], runs["none"].metrics[METRIC]
     assert on <= none, (on, none)
 
