@@ -212,13 +212,17 @@ BETA_BOUND = np.arctan(0.02 * 0.8 * 9.81)  # 0.156 rad
 
 def test_row_idle_refused_beyond_yaw_bound(params):
     """IDLE->REFUSED: at detection the yaw rate is 10 % above the bound: no plan on the opposite wheel (NONE, back
-    to the driver and ABS), the flat wheel released, reason code 3; 10 % below it, or with the refusal disabled
-    (defect), the compensation builds."""
+    to the driver and ABS), reason code 3; the flat wheel too is left to the driver and ABS (refused before the function
+    acted: the car as without it; refused_blown_driver_flag, session k K6 - flag 0, the code before: released);
+    10 % below it, or with the refusal disabled (defect), the compensation builds."""
     # (toward the blown FL, CCW +: at the detection refused whatever the rotation; front_spin_keep_flag keeps only a
     # running compensation, rows below)
     e = Ecu(params).run(0.2).run(0.1, yaw=1.1 * R_BOUND, **BLOWN_LF)
     assert e.rows[0] == ("IDLE", "REFUSED", "beyond_stable_region") and e.st[bc.S_LIMIT_CODE] == bc.LIMIT_YAW_BOUND
-    assert list(e.req) == [bc.Q_RELEASE, bc.Q_NONE, bc.Q_NONE, bc.Q_NONE]
+    assert list(e.req) == [bc.Q_NONE, bc.Q_NONE, bc.Q_NONE, bc.Q_NONE] and int(e.st[bc.S_BLOWN]) == 0
+    e0 = Ecu(params, blowout_compensation_refused_blown_driver_flag=0.0).run(0.2).run(0.1, yaw=1.1 * R_BOUND, **BLOWN_LF)
+    assert e0.rows[0] == ("IDLE", "REFUSED", "beyond_stable_region")
+    assert list(e0.req) == [bc.Q_RELEASE, bc.Q_NONE, bc.Q_NONE, bc.Q_NONE]
     assert Ecu(params).run(0.2).run(0.06, yaw=0.9 * R_BOUND, **BLOWN_LF).rows[0][1] == "BUILD"
     d = Ecu(params, blowout_compensation_stability_refusal_flag=0.0).run(0.2).run(0.06, yaw=1.1 * R_BOUND, **BLOWN_LF)
     assert d.rows[0][1] == "BUILD"
@@ -231,7 +235,9 @@ def test_rows_build_limited_rejected_refused(params):
     assert e.mode == "BUILD"
     e.run(0.005, yaw=-1.1 * R_BOUND, **BLOWN_LF)  # away from FL (toward it: front_spin_keep_flag, below)
     assert e.rows[-1] == ("BUILD", "REFUSED", "beyond_stable_region") and e.req[1] == bc.Q_NONE
-    assert int(e.st[bc.S_BLOWN]) == 0 and e.req[0] == bc.Q_RELEASE  # confirmed by both sources: the flat stays released
+    # confirmed by both sources and refused DURING the compensation: the flat stays released (refused_blown_driver_flag
+    # only for a refusal at the detection)
+    assert int(e.st[bc.S_BLOWN]) == 0 and e.req[0] == bc.Q_RELEASE
     e = Ecu(params).run(0.2).run(0.1, inlet=(1, 0, 1, 1), **BLOWN_LF)
     assert e.mode == "LIMITED"
     e.run(0.005, inlet=(1, 0, 1, 1), yaw=-1.1 * R_BOUND, **BLOWN_LF)

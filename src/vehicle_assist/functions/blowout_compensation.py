@@ -90,7 +90,9 @@ IDLE/REJECTED -> REFUSED and BUILD/HOLD/LIMITED -> REFUSED (beyond_stable_region
 2nd ed. 2012, ch. 8), measured r, beta = integral of a_y/u - r from the detection, mu = the ECU's nominal
 mu_estimate_frac (``unstable_code``): the feed-forward cannot help a sliding car; nothing is planned / the target
 wheel returns to the driver's pressure and ABS; a wheel confirmed by both sources stays
-released (flat); a single-source detection is not held released (review finding 3). Terminal for this blowout.
+released (flat); a single-source detection is not held released (review finding 3) - except a blowout refused AT its
+detection (``refused_blown_driver_flag``, 0 = seeded defect = released; session k K6): the function never acted, its
+blown wheel stays with the driver and ABS, the car as without the function. Terminal for this blowout.
 Spin-front rule (``spin_front_flag``, 0 = seeded defect = the refusal above; session 2026-11-24 e): a REAR blowout
 compensated on the rear axle whose car is beyond those bounds rotating TOWARD the blown side (the spin the flat rear
 tire starts) goes to LIMITED (same guard, limit code 5) instead of REFUSED: the rear compensating wheel is released (its
@@ -357,7 +359,10 @@ S_GB_RN = S_GB_RSUM + 1
 # (heading_return_spin_exit_flag, session j J9) the time S_PSI_ERR counts from [s]: the detection, or a spin exit that
 # reset S_PSI_ERR (the baseline is taken off the integral over that time only)
 S_GB_T0 = S_GB_RN + 1
-STATE_SIZE = S_GB_T0 + 1
+# (refused_blown_driver_flag, session k K6) 1 = this blowout was refused AT its detection (IDLE/REJECTED -> REFUSED):
+# the function never acted on it, its blown wheel is left to the driver and ABS (Q_NONE), not released
+S_REFUSED_DET = S_GB_T0 + 1
+STATE_SIZE = S_REFUSED_DET + 1
 # (heading_return_line_flag, session k K3) the fraction of the other front's pressure the heading return may take off the
 # released front: with it the front axle keeps (2 - 0.5)/2 = 0.75 of its brake force, UN R13-H Annex 6 para 5.2's
 # minimum adhesion utilisation epsilon >= 0.75 of an anti-lock car transposed onto the axle the rule acts on (assumed
@@ -1261,6 +1266,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                 # same candidate; no action yet): one gyro-noise / transient sample is not a set-point for the stop
                 st[S_GB_R0] = toward_blown_side(b, st[S_GB_RSUM] / st[S_GB_RN])
             st[S_GB_T0] = t
+            st[S_REFUSED_DET] = 0.0
             st[S_GB_U0] = v_ref  # (reject_heading_return_flag 2) the speed its reference's understeer term is kept at
             st[S_GB_ON] = 0.0
             st[S_SPIN_EXITED] = 0.0
@@ -1293,6 +1299,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                 reason = G_UNSTABLE
                 st[S_LIMIT_CODE] = code
                 st[S_TARGET] = -1.0
+                st[S_REFUSED_DET] = 1.0  # (refused_blown_driver_flag) refused before any action
                 _release_unconfirmed_latch(st)
             n_events = log_event(events, n_events, t, machine_id, mode, new, reason)
             mode = new
@@ -1456,6 +1463,18 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     tg = int(st[S_TARGET])
     if b >= 0:
         requests[b] = Q_RELEASE
+        if mode == REFUSED and st[S_REFUSED_DET] > 0.5 and p.blowout_compensation_refused_blown_driver_flag > 0.5:
+            # (refused_blown_driver_flag, 0 = the code before = released as in ENDED) refused AT the detection: the
+            # function stands down before it acts, so the car is the one without the function (the driver's pressure
+            # and ABS on every wheel, the ESP alone - the never-worse reference). The release of the blown wheel is the
+            # first step of the paper's balance (eqs. 26-28, F_b = 0, the other front taking the counter-force); with
+            # no balance planned it is a lone yaw moment away from the blown side and a lost share of the braking, in
+            # a car already beyond the stable region: it slowed the spin without stopping it and the car slid on
+            # faster and further (K1 r41 #264 without the fault: FL, 107 km/h, braking, refused at the detection,
+            # 20.93 m vs none 10.86 m; given to the driver and ABS 10.09 m; G5 saw the same for a compensation kept
+            # running past a detection-time refusal). A refusal during the compensation (the wheel already released
+            # to ~0 bar) keeps it released as before: Q_NONE there would re-apply the driver's pressure at once.
+            requests[b] = Q_NONE
         if p.blowout_compensation_blown_front_hold_flag > 0.5:
             blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p)
     # (ramp_refused_flag) the ramp only while the rear compensates (BUILD/HOLD): REFUSED after the exit is a car beyond

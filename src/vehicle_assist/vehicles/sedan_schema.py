@@ -411,6 +411,10 @@ class SedanBlowoutCompensation(Strict):
     # esp.yaw_hold_rate with that front more than 1 bar above the substitute (the ESP's GMA yaw limitation, which the
     # compensation's GMA block had ended/masked there); 0 = the code before (tire_blowout_findings.md K2, session k)
     substitute_yaw_limit_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # a blowout refused AT its detection (beyond the stable region before the function acted): its blown wheel is left
+    # to the driver's pressure and ABS (Q_NONE) - the car without the function - not released as in ENDED; a refusal
+    # during the compensation keeps the release; 0 = the code before (released; tire_blowout_findings.md K6, session k)
+    refused_blown_driver_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
