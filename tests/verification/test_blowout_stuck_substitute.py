@@ -108,3 +108,48 @@ def test_22_blown_side_front_released_beyond_the_yaw_dump_rate(runs):
     assert on_rise == 0, (on_rise, on_n)
     d_rise, d_n = rises(runs["defect"])
     assert d_rise > 0, (d_rise, d_n)
+
+
+# --- substitute_yaw_limit_flag 2 (session k, task K7; RK1's latched hold) - measured, NOT shipped ---------------------
+# The GMA HOLDS the front between esp.yaw_hold_rate and esp.yaw_dump_rate (its pressure does not rise there); value 1
+# only releases the blown side's front while it is > 1 bar above the substitute, so FL's own ABS/HBA pulsed re-build
+# lifts it again after every release (RK1: P22 FL 21-30 bar sawtooth, twin ~1 bar). Value 2 latches FL's level on
+# entering the band and releases it while it is > 1 bar above that level. Value 2 is not shipped (444 stuck rear points:
+# 2 new never-worse violations, findings K7), so these tests set it explicitly; K2's value 1 is the reference it must
+# improve on - they fail with LATCH = 1 (shown in findings K7).
+LATCH = ("vehicle.blowout_compensation.substitute_yaw_limit_flag=2",)
+K2_RULE = ("vehicle.blowout_compensation.substitute_yaw_limit_flag=1",)
+YAW_HOLD_RADPS = np.radians(2.0)  # esp.yaw_hold_rate_deg_per_s (suv_bj2500.toml, the ESP's GMA yaw hold)
+RULE_MARGIN_PA = 1.0e5  # the rule's 1-bar margin (substitute_yaw_limit, both values)
+
+
+@pytest.fixture(scope="module")
+def latch_runs():
+    env = load_envelope("tire_blowout")
+    return {"latch": _stuck_run(env, P22, sets=LATCH), "k2": _stuck_run(env, P22, sets=K2_RULE),
+            "none": _stuck_run(env, P22, baseline=True)}
+
+
+def _fl_mean_in_hold_band(r):
+    """FL's mean plant pressure over the LIMITED (code 1) samples whose yaw rate toward RL, net of the 1000 m curve's
+    kinematic u/R and of the 0.01 rad/s reference margin, exceeds the ESP's yaw hold rate (independent of the ECU)."""
+    yaw = np.asarray(r.trace["yaw_rate_radps"]) - np.asarray(r.trace["speed_mps"]) / CURVE_RADIUS_M - MARGIN_RADPS
+    code = np.asarray(r.trace["blowout_limit_code"])
+    band = (code == LIMIT_OTHER_AXLE) & (yaw > YAW_HOLD_RADPS)
+    assert band.any(), "no LIMITED sample beyond the yaw hold rate"
+    return float(np.asarray(r.trace["wheel_pressure_fl_pa"])[band].mean())
+
+
+def test_22_latched_hold_lowers_the_blown_side_front(latch_runs):
+    """With the hold, FL's level where the GMA would hold it is lower than with K2's release-only rule by more than the
+    rule's 1-bar margin (measured: 15.30 vs 23.07 bar; the twin's GMA keeps FL at ~1 bar). Fails at LATCH = 1 (equal)."""
+    latch, k2 = _fl_mean_in_hold_band(latch_runs["latch"]), _fl_mean_in_hold_band(latch_runs["k2"])
+    assert latch < k2 - RULE_MARGIN_PA, (latch / 1e5, k2 / 1e5)
+
+
+def test_22_latched_hold_never_worse_and_not_worse_than_k2(latch_runs):
+    """Requirement no_worse_than_no_compensation with the same fault in both cars (9.253 vs the twin's 11.507 m), and no
+    worse than K2's rule on its own test point (11.442 m)."""
+    latch, k2, none = (latch_runs[k].metrics[METRIC] for k in ("latch", "k2", "none"))
+    assert latch <= none, (latch, none)
+    assert latch <= k2, (latch, k2)

@@ -362,7 +362,11 @@ S_GB_T0 = S_GB_RN + 1
 # (refused_blown_driver_flag, session k K6) 1 = this blowout was refused AT its detection (IDLE/REJECTED -> REFUSED):
 # the function never acted on it, its blown wheel is left to the driver and ABS (Q_NONE), not released
 S_REFUSED_DET = S_GB_T0 + 1
-STATE_SIZE = S_REFUSED_DET + 1
+# (substitute_yaw_limit_flag 2, session k K7) the blown side's front's line-pressure level latched when the yaw error
+# toward the blown side entered the band between esp.yaw_hold_rate and esp.yaw_dump_rate (or its level at the last dump
+# period above esp.yaw_dump_rate) [Pa]; -1 = none (below esp.yaw_hold_rate)
+S_SUB_HOLD = S_REFUSED_DET + 1
+STATE_SIZE = S_SUB_HOLD + 1
 # (heading_return_line_flag, session k K3) the fraction of the other front's pressure the heading return may take off the
 # released front: with it the front axle keeps (2 - 0.5)/2 = 0.75 of its brake force, UN R13-H Annex 6 para 5.2's
 # minimum adhesion utilisation epsilon >= 0.75 of an anti-lock car transposed onto the axle the rule acts on (assumed
@@ -414,6 +418,7 @@ def initial_state() -> np.ndarray:
     st[S_BLOWN] = -1.0
     st[S_SUSPECT] = -1.0
     st[S_TARGET] = -1.0
+    st[S_SUB_HOLD] = -1.0
     st[S_EXCLUDED] = -1.0
     st[S_REJECTED] = -1.0
     st[S_BUF_LAST] = -1.0
@@ -1589,7 +1594,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref, a_y_meas, v_ref)
     if (p.blowout_compensation_substitute_yaw_limit_flag > 0.5 and mode == LIMITED
             and st[S_LIMIT_CODE] == LIMIT_OTHER_AXLE and b >= 2 and 0 <= tg < 2):
-        substitute_yaw_limit(b, tg, yaw_rate, p_est, requests, p)
+        substitute_yaw_limit(b, tg, yaw_rate, p_est, requests, p, st)
     if st[S_GB_ON] > 0.5:
         y_gb = yaw_rate
         if p.blowout_compensation_reject_heading_return_flag > 1.5:
@@ -1599,7 +1604,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def substitute_yaw_limit(b, tg, yaw_err, p_est, requests, p):
+def substitute_yaw_limit(b, tg, yaw_err, p_est, requests, p, st):
     """``substitute_yaw_limit_flag`` (0 = the code before; tire_blowout_findings.md K2, session k). LIMITED on the
     substitute front (a REAR blowout b whose opposite rear's inlet is stuck closed, limit code 1: ``_substitute`` brakes
     the front on the other side): the front on the BLOWN side is the front whose brake force yaws the car toward the
@@ -1615,13 +1620,30 @@ def substitute_yaw_limit(b, tg, yaw_err, p_est, requests, p):
     beyond esp.yaw_dump_rate the blown side's front is released; beyond esp.yaw_hold_rate it is released while it is
     more than 1 bar above the substitute (the GMA limits the fronts' pressure DIFFERENCE; a 'hold' request is not
     available here - Q_HOLD re-builds a wheel to the compensation's target S_P_REQ, functions/esp.py). The substitute
-    itself is left to the compensation and ABS. 444 stuck rear points: 62 never-worse violations -> 23 (findings K2)."""
+    itself is left to the compensation and ABS. 444 stuck rear points: 62 never-worse violations -> 23 (findings K2).
+
+    Value 2 (session k K7, RK1's latched hold): the GMA HOLDS a front between the two yaw rates - its pressure does not
+    rise there. Value 1 released it only while it was more than 1 bar above the substitute, so between those dumps the
+    front's own ABS/HBA pulsed re-build raised it again (P22: FL 21-30 bar sawtooth against the twin's ~1 bar). With 2
+    the front's line level is latched when the yaw error enters the band (or at the last dump period above the dump
+    rate) and the front is released while it is more than 1 bar (the same margin as value 1) above that level; below
+    esp.yaw_hold_rate the latch is dropped (S_SUB_HOLD, -1)."""
     w = b - 2  # the front on the blown side
     toward = toward_blown_side(b, yaw_err)
     if toward > p.esp_yaw_dump_rate_radps:
         requests[w] = Q_RELEASE
-    elif toward > p.esp_yaw_hold_rate_radps and p_est[w] > p_est[tg] + 1.0e5:
-        requests[w] = Q_RELEASE
+        if p.blowout_compensation_substitute_yaw_limit_flag > 1.5:
+            st[S_SUB_HOLD] = st[S_P_LINE + w]
+    elif toward > p.esp_yaw_hold_rate_radps:
+        latched = False
+        if p.blowout_compensation_substitute_yaw_limit_flag > 1.5:
+            if st[S_SUB_HOLD] < 0.0:
+                st[S_SUB_HOLD] = st[S_P_LINE + w]
+            latched = st[S_P_LINE + w] > st[S_SUB_HOLD] + 1.0e5
+        if latched or p_est[w] > p_est[tg] + 1.0e5:
+            requests[w] = Q_RELEASE
+    elif p.blowout_compensation_substitute_yaw_limit_flag > 1.5:
+        st[S_SUB_HOLD] = -1.0
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")

@@ -409,8 +409,13 @@ class SedanBlowoutCompensation(Strict):
     # LIMITED on the substitute front (rear blowout, the opposite rear's inlet stuck, limit code 1): the OTHER front (the
     # blown side's) released while the yaw error toward the blown side exceeds esp.yaw_dump_rate, or exceeds
     # esp.yaw_hold_rate with that front more than 1 bar above the substitute (the ESP's GMA yaw limitation, which the
-    # compensation's GMA block had ended/masked there); 0 = the code before (tire_blowout_findings.md K2, session k)
-    substitute_yaw_limit_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # compensation's GMA block had ended/masked there); 0 = the code before (tire_blowout_findings.md K2, session k);
+    # 2 = also HOLD that front between the two yaw rates as the ESP's GMA does (Bosch Automotive Handbook, ABS/ESP
+    # yaw-moment limitation: hold above esp.yaw_hold_rate, dump above esp.yaw_dump_rate - the same thresholds): its
+    # line level latched on entering the band (or at the last dump) and released while it is > 1 bar above that level,
+    # so its own ABS/HBA re-build cannot saw it back up (session k K7, RK1's latched hold; measured, NOT shipped: 2 new
+    # never-worse violations on the 444 stuck rear points, tire_blowout_findings.md K7)
+    substitute_yaw_limit_flag: Annotated[int, Field(ge=0, le=2)] = 1
     # a blowout refused AT its detection (beyond the stable region before the function acted): its blown wheel is left
     # to the driver's pressure and ABS (Q_NONE) - the car without the function - not released as in ENDED; a refusal
     # during the compensation keeps the release; 0 = the code before (released; tire_blowout_findings.md K6, session k)
