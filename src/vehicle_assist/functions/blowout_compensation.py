@@ -1860,12 +1860,15 @@ def understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, reque
     dead band): that restore's evidence is the yaw above the reference without the dead band for the settling time -
     inside the dead band lf80's lowering was held while the car turned 0.02 rad/s more than the lane (1.009 m at
     standstill, out of the lane; with it 0.153 m, run max 0.059 m; tire_blowout_findings.md RH2)."""
-    if b < 0 or b >= 2 or tg != OPPOSITE[b] or mode != HOLD or braking > 0.5:
+    # (understeer_braking_flag, 0 = the code before: the rule rests while the driver brakes; session l L4, fb5 #164) the
+    # shortfall is timed across the pedal and the rule acts under it too, the braking rule then keeps the lowered balance
+    brk_ok = p.blowout_compensation_understeer_braking_flag > 0.5
+    if b < 0 or b >= 2 or tg != OPPOSITE[b] or mode != HOLD or (braking > 0.5 and not brk_ok):
         st[S_US_SHORT_S] = 0.0  # (understeer_persist_flag) the shortfall is timed in HOLD without the pedal only
         st[S_US_OVER_S] = 0.0
     if b < 0 or b >= 2 or tg != OPPOSITE[b] or mode != HOLD:
         return
-    if braking > 0.5:
+    if braking > 0.5 and not brk_ok:
         return  # the driver brakes: the braking rule (its own yaw feedback on the driver's share) governs from the present
         #   balance, lowered or not
     db = p.blowout_compensation_yaw_deadband_radps
