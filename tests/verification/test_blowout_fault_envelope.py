@@ -30,7 +30,7 @@ def env():
 
 def test_envelope_loads_with_the_blowout_dimensions_plus_the_fault_and_is_listed(env):
     blow = load_envelope("tire_blowout", validate=False)
-    assert set(env.names) == set(blow.names) | {"fault", "accumulator"}
+    assert set(env.names) == set(blow.names) | {"fault", "accumulator", "fault_time"}
     for d in blow.dims:  # the same ranges and options as the nominal envelope
         assert env.dim(d.name).describe() == d.describe(), d.name
     assert set(env.dim("fault").options) == {"inlet_stuck_fl", "inlet_stuck_fr", "inlet_stuck_rl", "inlet_stuck_rr",
@@ -95,8 +95,9 @@ def test_bad_fault_options_give_one_line_errors(env):
     from pydantic import ValidationError
     choices = _model()["choices"]
     bad = dict(choices, fault={"source": choices["fault"]["source"], "options": {"x": {"append_events": "stuck"}}})
+    no_time = {k: v for k, v in _model()["ranges"].items() if k != "fault_time"}  # (its when names the inlet options)
     with pytest.raises(ValidationError, match="list of event tables"):
-        EnvelopeModel.model_validate(_model(choices=bad))
+        EnvelopeModel.model_validate(_model(choices=bad, ranges=no_time))
     # a conditional range naming no such choice / option
     ranges = _model()["ranges"]
     for when, what in (({"faults": ["low_accumulator"]}, "no choice 'faults'"),
@@ -108,7 +109,7 @@ def test_bad_fault_options_give_one_line_errors(env):
     bad_ev = dict(choices, fault={"source": choices["fault"]["source"],
                                  "options": {"inlet_stuck_xx": {"append_events": [dict(STUCK["rr"], actuator="inlet_valve_xx")]},
                                              "low_accumulator": {}}})
-    model = EnvelopeModel.model_validate(_model(choices=bad_ev))
+    model = EnvelopeModel.model_validate(_model(choices=bad_ev, ranges=no_time))
     with pytest.raises(InputError) as exc:
         Envelope(model, None).validate_points()
     text = str(exc.value)

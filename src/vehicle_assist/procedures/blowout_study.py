@@ -302,8 +302,9 @@ def falsify_extra(out_dir: Path):
                      # function; the absolute exceedance of both is reported in the entry)
                      ("tire_blowout_false_alarm", "tire_blowout.no_lane_departure_caused"),
                      # issue #10 'Faults' (low accumulator; inlet valve stuck closed) over data/envelopes/
-                     # tire_blowout_faults.toml: the same blowout envelope with one fault from t = 0 in BOTH runs
-                     # (the twin has the same fault): never worse than the car without the function
+                     # tire_blowout_faults.toml: the same blowout envelope with one fault in BOTH runs (an inlet fault
+                     # from its fault_time 0 .. 4 s, session l L3; the twin has the same fault at the same time): never
+                     # worse than the car without the function
                      ("tire_blowout_faults", "tire_blowout.no_worse_than_no_compensation")):
         res = run_falsification(env, rid, budget=FALSIFY_BUDGET, seed=FALSIFY_SEED, optimizer="cma", batch=8,
                                 progress=False)

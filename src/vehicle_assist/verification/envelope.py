@@ -13,7 +13,14 @@ which it varies, each with its source:
   ``append_events = [{ at_s = 0.0, action = "actuator_fault", actuator = "inlet_valve_rl", fault = "stuck_energized" }]``.
 * A range may carry ``when = { CHOICE = [OPTION, ...] }``: it is written only at points where that choice
   takes one of those options (elsewhere the base value stands); it is still a dimension of every point
-  (a fault's severity: the accumulator pressure only when the fault is a low accumulator).
+  (a fault's severity: the accumulator pressure only when the fault is a low accumulator). Where it is not
+  written it is INACTIVE (:meth:`Envelope.inactive`): falsify.json lists it per point (``inactive``) and
+  :meth:`Envelope.grid` does not repeat points that differ only in inactive dimensions.
+* A range with ``when`` may set a field of an event its choice's options append:
+  ``path = "append_events[I].FIELD"`` (``I`` the index in the option's ``append_events`` list, ``-1`` the last)
+  sets ``FIELD`` of that event (the fault time: ``path = "append_events[0].at_s"``); every option named in
+  ``when`` must append such an event and give that field (its own value is the default where the range is absent
+  from a point, e.g. an older falsify.json). Checked at load, one line per error.
 * ``[profiles.NAME]`` driver inputs as parameterised shapes: ``kind`` (``pedal`` or ``switch``), the
   scenario ``path`` they write (``driver.accelerator``), and parameters that are numbers or ranges
   ``{ min, max }`` (ranges are envelope dimensions named ``NAME.PARAM``).
@@ -35,6 +42,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import re
 import tomllib
 from dataclasses import dataclass
 from functools import cached_property
@@ -53,6 +61,13 @@ PROFILE_KINDS = ("pedal", "switch")
 PEDAL_PARAMS = {"start_s", "rate_per_s", "duration_s", "level_frac", "dip_at_frac", "dip_depth_frac", "dip_hold_s",
                 "ease_after_s", "ease_to_frac", "ease_time_s"}
 SWITCH_PARAMS = {"at_s"}
+EVENT_PATH = re.compile(r"append_events\[(-?\d+)\]\.([A-Za-z_][A-Za-z0-9_]*)")  # a range on an appended event's field
+
+
+def event_target(path: str) -> tuple[int, str] | None:
+    """``(index, field)`` of a range target ``append_events[I].FIELD``; None for a dotted scenario path."""
+    m = EVENT_PATH.fullmatch(path)
+    return (int(m.group(1)), m.group(2)) if m else None
 
 
 class Strict(BaseModel):
@@ -166,7 +181,33 @@ class EnvelopeModel(Strict):
                 if bad:
                     raise ValueError(f"ranges.{name}.when.{choice}: no option {bad[0]!r}"
                                      f"{did_you_mean(bad[0], self.choices[choice].options)}")
+            self._event_targets(name, r)
         return self
+
+    def _event_targets(self, name: str, r: "RangeSpec") -> None:
+        """A range on an appended event's field (``append_events[I].FIELD``): the path's form, a ``when`` naming the
+        options that append the event, and in each of them an event at index I that gives FIELD."""
+        for target in r.targets:
+            if not (target.startswith("append_events") or target.startswith("events[")):
+                continue
+            where = f"ranges.{name}: path {target!r}"
+            spot = event_target(target)
+            if spot is None:
+                raise ValueError(f"{where}: an event field is written append_events[I].FIELD (I the index in the "
+                                 "option's append_events list, -1 the last), e.g. append_events[0].at_s")
+            if r.when is None:
+                raise ValueError(f"{where}: a range on an appended event needs when = {{ CHOICE = [OPTION, ...] }} "
+                                 "naming the options that append that event")
+            index, fld = spot
+            for choice, options in r.when.items():
+                for option in options:
+                    events = self.choices[choice].options[option].get("append_events") or []
+                    if not -len(events) <= index < len(events):
+                        raise ValueError(f"{where}: choices.{choice}.options.{option} appends {len(events)} event(s); "
+                                         f"no event at index {index}")
+                    if fld not in events[index]:
+                        raise ValueError(f"{where}: choices.{choice}.options.{option}: its event {index} has no field "
+                                         f"{fld!r}{did_you_mean(fld, events[index])}; fields: {', '.join(events[index])}")
 
 
 @dataclass(frozen=True)
@@ -405,7 +446,24 @@ class Envelope:
         for d in self.dims:
             n = levels.get(d.name, 3) if isinstance(levels, dict) else levels
             per.append(d.levels(n))
-        return [dict(zip(self.names, combo)) for combo in itertools.product(*per)]
+        out, seen = [], set()
+        for combo in itertools.product(*per):
+            point = dict(zip(self.names, combo))
+            off = set(self.inactive(point))
+            key = tuple((name, None if name in off else value) for name, value in point.items())
+            if key not in seen:  # points that differ only in inactive dimensions make the same scenario: keep the first
+                seen.add(key)
+                out.append(point)
+        return out
+
+    def inactive(self, point: dict) -> list[str]:
+        """The conditional ranges (``when``) NOT written at ``point`` (their value there does nothing: the
+        accumulator at an inlet-fault point, the fault time at a low-accumulator point), in dimension order."""
+        out = []
+        for name, r in self.model.ranges.items():
+            if r.when is not None and not all(point.get(c) in opts for c, opts in r.when.items()):
+                out.append(name)
+        return out
 
     def sample(self, n: int, method: str = "sobol", seed: int = 0) -> tuple[np.ndarray, list[dict]]:
         """``n`` quasi-random points (``sobol`` scrambled, ``lhs`` or ``random``) with their unit coordinates."""
@@ -430,6 +488,7 @@ class Envelope:
         if unknown:
             raise InputError(f"{self.where}: point has unknown dimension {unknown[0]!r}{did_you_mean(unknown[0], self.names)}")
         paths: dict[str, Any] = {}
+        event_fields: dict[str, list[tuple[int, str, Any]]] = {}  # choice -> (index, field, value) of its appended events
         params = {p: {k: v for k, v in prof.params.items() if not isinstance(v, Interval)} for p, prof in m.profiles.items()}
         for name, r in m.ranges.items():
             if r.when is not None and not all(point.get(c) in opts for c, opts in r.when.items()):
@@ -437,7 +496,12 @@ class Envelope:
             if name in point:
                 value = int(round(float(point[name]))) if r.integer else point[name]  # a whole number (run.seed)
                 for target in r.targets:
-                    paths[target] = value
+                    spot = event_target(target)
+                    if spot is None:
+                        paths[target] = value
+                    else:  # a field of an event the when-choice's option appends (validated at load)
+                        for choice in r.when:
+                            event_fields.setdefault(choice, []).append((*spot, value))
         for d in self.dims:
             if "." in d.name and d.name.split(".", 1)[0] in m.profiles and d.name in point:
                 p, k = d.name.split(".", 1)
@@ -452,7 +516,10 @@ class Envelope:
             for path, value in c.options[option].items():
                 head = path.split(".", 1)[0]
                 if path == "append_events":  # added after the base's (or a replacing option's) events, below
-                    appended += list(value)
+                    events = [dict(e) for e in value]
+                    for index, fld, v in event_fields.get(name, []):
+                        events[index][fld] = v  # a range on this option's event (the fault time)
+                    appended += events
                 elif head in m.profiles and "." in path:
                     params[head][path.split(".", 1)[1]] = value
                 else:
@@ -489,11 +556,13 @@ class Envelope:
 
     def point_name(self, point: dict) -> str:
         parts = []
+        off = set(self.inactive(point))
         for d in self.dims:
             v = point.get(d.name)
-            r = self.model.ranges.get(d.name)
-            if r is not None and r.when is not None and not all(point.get(c) in o for c, o in r.when.items()):
-                continue  # a conditional range not written at this point (e.g. the accumulator of an inlet fault)
+            if d.name in off or d.name not in point:
+                # a conditional range not written at this point (e.g. the accumulator of an inlet fault), or a
+                # dimension the point does not carry (a point of an older falsify.json: the base / option value stands)
+                continue
             parts.append(f"{d.name}={v}" if d.kind == "discrete" else f"{d.name}={v:.4g}")
         return ", ".join(parts)
 

@@ -291,6 +291,7 @@ def write_falsification(result: FalsifyResult, out: Path) -> dict[str, Path]:
     paths: dict[str, Path] = {}
     cex = result.counterexample
     first = result.first_counterexample
+    env = result.envelope
     result.counterexample_twin_robustness = (None if cex is None else
                                              twin_robustness(result.envelope, result.requirement, cex.point))
     summary = {
@@ -301,15 +302,19 @@ def write_falsification(result: FalsifyResult, out: Path) -> dict[str, Path]:
         "evaluations": len(result.evaluations), "wall_s": result.wall_s,
         "evaluations_to_first_counterexample": result.evaluations_to_first,
         "min_robustness": result.best.robustness, "best_point": result.best.point,
+        # the conditional ranges (``when``) a point did not write: their value in "point" did nothing there (the
+        # accumulator at an inlet-fault point); absent from files written before (read them as an empty list)
+        "best_point_inactive": env.inactive(result.best.point),
         "violation_count": len(result.violations),
         "violations": [{"index": e.index, "robustness": e.robustness} for e in result.violations],
         "first_counterexample": None if first is None else {"index": first.index, "robustness": first.robustness},
         "counterexample": None if cex is None else {
             "selected": "first" if result.stop_at_violation else "worst", "index": cex.index,
-            "point": cex.point, "robustness": cex.robustness,
+            "point": cex.point, "inactive": env.inactive(cex.point), "robustness": cex.robustness,
             "metrics": cex.metrics, "baseline_metrics": cex.baseline_metrics,
             "baseline_robustness": result.counterexample_twin_robustness},
-        "history": [{"index": e.index, "robustness": e.robustness, "point": e.point, **e.metrics} for e in result.evaluations],
+        "history": [{"index": e.index, "robustness": e.robustness, "point": e.point, "inactive": env.inactive(e.point),
+                     **e.metrics} for e in result.evaluations],
     }
     paths["summary"] = write_json(summary, out / "falsify.json")
     target = cex
