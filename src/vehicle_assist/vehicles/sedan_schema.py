@@ -420,6 +420,10 @@ class SedanBlowoutCompensation(Strict):
     # to the driver's pressure and ABS (Q_NONE) - the car without the function - not released as in ENDED; a refusal
     # during the compensation keeps the release; 0 = the code before (released; tire_blowout_findings.md K6, session k)
     refused_blown_driver_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # the blown side's other wheel (other axle, same side) has its inlet diagnosed stuck closed: while the driver brakes
+    # the blown wheel is not released (driver's pressure and ABS) and no counter-brake is added, limit code 6; 0 = the
+    # code before (released, the whole side unbraked; tire_blowout_findings.md L1, session l, K1's r41 #360)
+    blown_side_fault_flag: Annotated[int, Field(ge=0, le=1)] = 0
 
     @model_validator(mode="after")
     def _order(self):
