@@ -386,12 +386,16 @@ ROLLING_RESISTANCE_MAX_FRAC = 0.018  # std (common.md 3.3): passenger-car rollin
 #   (rear_accel_bound_flag, ``accel_friction_lower_bound``)
 RISE_MARGIN_MPS2 = 2.0  # assumed: the BJ2500 cannot speed up faster than a_x,meas + 2 m/s^2 (0-100 km/h in ~14 s)
 LIMIT_NONE, LIMIT_OTHER_AXLE, LIMIT_NO_AUTHORITY, LIMIT_YAW_BOUND, LIMIT_SIDESLIP_BOUND, LIMIT_SPIN_FRONT = 0, 1, 2, 3, 4, 5
+LIMIT_BLOWN_SIDE = 6  # (blown_side_fault_flag, session l L1) the blown side's other wheel's inlet stuck closed
 LIMIT_REASONS = ("none", "opposite inlet valve stuck closed: other-axle wheel of the same side, capped at its lock pressure",
                  "opposite inlet valve and its substitute stuck closed: no braking authority",
                  "refused: yaw rate above the stable bound 0.85*mu*g/u (Rajamani 2012, 8.x)",
                  "refused: sideslip estimate above the stable bound atan(0.02*mu*g) (Rajamani 2012, 8.x)",
                  "beyond the stable region rotating toward the blown side (rear blowout): rear wheel released, the "
-                 "front wheel of its side braked to its lock estimate (spin_front_flag)")
+                 "front wheel of its side braked to its lock estimate (spin_front_flag)",
+                 "the blown side's other inlet valve stuck closed: that side has no other brake - while the driver "
+                 "brakes the blown wheel is left to the driver and ABS (not released) and no counter-brake is added "
+                 "(blown_side_fault_flag)")
 YAW_BOUND_FRAC = 0.85  # Rajamani, Vehicle Dynamics and Control (2nd ed. 2012), ch. 8 yaw control: |r| <= 0.85*mu*g/u
 SIDESLIP_BOUND_S2_PER_M = 0.02  # same source: beta_max = atan(0.02*mu*g)
 # measured tire capacity of the compensating wheel (tire_capacity_check / tire_capacity_rule)
@@ -1595,6 +1599,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     if (p.blowout_compensation_substitute_yaw_limit_flag > 0.5 and mode == LIMITED
             and st[S_LIMIT_CODE] == LIMIT_OTHER_AXLE and b >= 2 and 0 <= tg < 2):
         substitute_yaw_limit(b, tg, yaw_rate, p_est, requests, p, st)
+    if p.blowout_compensation_blown_side_fault_flag > 0.5 and b >= 0:
+        blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, p)
     if st[S_GB_ON] > 0.5:
         y_gb = yaw_rate
         if p.blowout_compensation_reject_heading_return_flag > 1.5:
@@ -1644,6 +1650,43 @@ def substitute_yaw_limit(b, tg, yaw_err, p_est, requests, p, st):
             requests[w] = Q_RELEASE
     elif p.blowout_compensation_substitute_yaw_limit_flag > 1.5:
         st[S_SUB_HOLD] = -1.0
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, p):
+    """``blown_side_fault_flag`` (0 = the code before; session l L1, tire_blowout_findings.md L1, K1's r41 #360). The
+    wheel on the blown wheel's SIDE on the other axle (FL <-> RL, FR <-> RR) has its inlet diagnosed stuck closed: after
+    the paper's release of the blown wheel (P7, eqs. 26-28: F_b = 0) that side has no brake at all, so a braking
+    driver's whole braking force is on the other side - a yaw moment away from the blown side set by the pedal, not by
+    the blowout, and in the same direction as the counter-brake. The balance of eqs. 26-28 (a counter-brake >= 0 on the
+    other side against the blown wheel's drag) cannot balance it; the only brake the blown side has left is the blown
+    wheel itself. So while the driver brakes (brake-light switch) the blown wheel is not released (Q_NONE: the driver's
+    pressure and ABS, as in the car without the function, where the rear select-low / ABS keep it braked) and the
+    counter-brake wheel keeps no added pressure (the braking rules' targets cleared; Q_NONE = the driver's pressure and
+    ABS, dumped (Q_RELEASE) while it is more than 1 bar above what the car without the function gives it: a rear the
+    blown rear's pressure - the ABS rear select-low keeps the pair equal there -, a front the driver's master pressure
+    - a counter-brake built before the pedal stayed held above the pair, RL 37-42 vs RR 30-33 bar at r41 #360): the
+    function stands down to the no-compensation car on the brakes and reports why (limit code LIMIT_BLOWN_SIDE, unless
+    a refusal / other limit code already says more). Without the pedal the blown side has no driver's pressure to lose
+    and the paper's compensation runs as before. No threshold (a diagnosis rule).
+    A blown REAR only (the blown side's FRONT stuck): there the side loses its front brake, the largest one (the rears
+    run on the proportioned pressure), and the release left it with none. With a blown FRONT and its side's rear stuck
+    the side loses only a proportioned rear brake and the front braking rule's four-force balance (``braking_rule``,
+    rear pair cap) governs: applied there too the rule made 14 of 18 such changed points of the lead's fault sets worse
+    (4 new never-worse violations, f_r41 #480 +0.080 -> -0.916, f_r3 #1 +0.329 -> -0.616; tire_blowout_findings.md L1)."""
+    if b < 2:
+        return  # a blown REAR only (its side's front stuck): measured, see the docstring
+    s = b - 2  # the blown side's front
+    if inlet_ok[s] > 0.5 or braking < 0.5:
+        return
+    requests[b] = Q_NONE
+    if tg >= 0 and (mode == BUILD or mode == HOLD or mode == LIMITED):
+        ceiling = p_est[b] if tg >= 2 else p_mc
+        requests[tg] = Q_RELEASE if p_est[tg] > ceiling + 1.0e5 else Q_NONE
+        st[S_P_BRAKE] = -1.0
+        st[S_REAR_CAP] = -1.0
+    if st[S_LIMIT_CODE] == LIMIT_NONE:
+        st[S_LIMIT_CODE] = LIMIT_BLOWN_SIDE
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")

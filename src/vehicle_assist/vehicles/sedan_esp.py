@@ -118,7 +118,8 @@ _CH = {
     "blowout_limit_code": ("authority limit / refusal: 0 none, 1 opposite inlet stuck (other axle used), 2 no healthy "
                            "wheel, 3 refused: |r| > 0.85*mu*g/u, 4 refused: |beta_est| > atan(0.02*mu*g), 5 rear blowout beyond "
                            "the stable region toward the blown side: the front wheel of the compensating side braked "
-                           "(spin_front_flag)"),
+                           "(spin_front_flag), 6 the blown rear's side's front inlet stuck: the blown rear left to the "
+                           "driver and ABS while braking, no counter-brake (blown_side_fault_flag)"),
     "yaw_moment_nm": "net yaw moment of the tire forces M_x + M_y (eqs. 9-11)",
     "lane_offset_m": "lateral offset of the CG from the lane centre (left +)",
     "lane_heading_error_rad": "heading minus lane heading",

@@ -425,6 +425,10 @@ class SedanBlowoutCompensation(Strict):
     # steered reference than it is (shipped); 2 = the same beyond yaw_deadband only; 1 = not armed when the detection's
     # yaw error was already beyond abort_yaw_rate away from the named wheel; 0 = the code before (findings L5)
     heading_return_own_yaw_flag: Annotated[int, Field(ge=0, le=3)] = 3
+    # the blown side's other wheel (other axle, same side) has its inlet diagnosed stuck closed: while the driver brakes
+    # the blown wheel is not released (driver's pressure and ABS) and no counter-brake is added, limit code 6; 0 = the
+    # code before (released, the whole side unbraked; tire_blowout_findings.md L1, session l, K1's r41 #360)
+    blown_side_fault_flag: Annotated[int, Field(ge=0, le=1)] = 0
 
     @model_validator(mode="after")
     def _order(self):
