@@ -88,3 +88,55 @@ def test_blown_side_rule_leaves_the_paper_compensation_before_the_pedal():
     assert pre.sum() >= 5
     assert np.max(np.asarray(r.trace["wheel_pressure_rl_pa"])[pre]) > 10 * BAR
     assert np.all(np.asarray(r.trace["blowout_limit_code"])[t < P360["brake.start_s"]] == 0)
+
+
+def test_limit_code_6_is_taken_back_when_the_pedal_is_released():
+    """#360 with the driver releasing the pedal (eased to 0 over 0.2 s, 1 s after reaching the level): the rule stands
+    aside and the paper's compensation is back (RL counter-braked > 10 bar, RR released < 2 bar; measured 32.2 / 1.4
+    bar) - the code must not keep saying 'no counter-brake is added' (code 6; at 488e3a4 it stayed 6 to the end)."""
+    import vehicle_assist as va
+    from vehicle_assist.verification.envelope import pedal_table, toml_value
+
+    env = load_envelope("tire_blowout_faults")
+    tab = pedal_table(P360["brake.start_s"], P360["brake.level_frac"], rate_per_s=P360["brake.rate_per_s"],
+                      ease_after_s=1.0, ease_to_frac=0.0, ease_time_s=0.2)
+    sc = env.scenario(P360).with_sets(*ON, f"{env.model.profiles['brake'].path}={toml_value(tab)}", "run.duration_s=3.5")
+    r = va.simulate(sc, requirements=False)
+    t = np.asarray(r.trace["time_s"])
+    code = np.asarray(r.trace["blowout_limit_code"])
+    on = (t > P360["brake.start_s"] + 0.1) & (t < tab["time_s"][-2])
+    assert np.all(code[on] == 6)  # while braking: the rule acts and says so
+    off = t > tab["time_s"][-1] + 0.2  # pedal released
+    assert np.min(np.asarray(r.trace["wheel_pressure_rl_pa"])[off]) > 10 * BAR  # the paper's counter-brake is back
+    assert np.max(np.asarray(r.trace["wheel_pressure_rr_pa"])[off]) < 2 * BAR  # ... and the blown wheel released
+    assert np.all(code[off] == 0), np.unique(code[off])
+
+
+# the lead's /tmp/lead/l/base/f_r41 #378 (fault envelope at t = 0): RR blown, FR stuck, braking from 1.51 s, r1000,
+# 76 km/h, mu 0.666; with blown_side_fault_flag = 1 the spin-front rule (code 5) engages at ~4.05 s
+P378 = {"speed": 76.49012023309223, "mu": 0.6661434757430691, "delay": 0.3386205492190542,
+        "wheel_speed_noise": 0.06362553565972197, "noise_seed": 7841.0, "brake_gain": 0.8452214281640918,
+        "accumulator": 51.65388974130821, "brake.start_s": 1.5075861347179234, "brake.level_frac": 0.2622671413265846,
+        "brake.rate_per_s": 0.28711197195071575, "braking": "brakes", "wheel": "rr", "driver": "follow",
+        "curve": "r1000", "fault": "inlet_stuck_fr"}
+
+
+@pytest.mark.parametrize("flag", [2, pytest.param(1, marks=pytest.mark.xfail(
+    strict=True, reason="flag 1: the blown rear held at the driver's 10-44 bar while code 5 says 'rear wheel released'"))])
+def test_spin_front_keeps_the_blown_rear_released_under_flag_2(flag):
+    """Code 5 (spin_front_flag) states 'rear wheel released': with flag 2 the blown-side rule stands aside there, so
+    every sample with code 5 from 0.1 s after each entry has RR < 5 bar (measured 1.4 bar); flag 1 keeps RR with the
+    driver (10-44 bar) - the code then says something the brakes do not do."""
+    import vehicle_assist as va
+
+    env = load_envelope("tire_blowout_faults")
+    r = va.simulate(env.scenario(P378).with_sets(f"vehicle.blowout_compensation.blown_side_fault_flag={flag}"),
+                    requirements=False)
+    t = np.asarray(r.trace["time_s"])
+    code = np.asarray(r.trace["blowout_limit_code"])
+    five = code == 5
+    assert five.sum() >= 20, five.sum()  # the spin-front phase is reached (the test's premise)
+    start = np.maximum.accumulate(np.where(five & ~np.r_[False, five[:-1]], t, -np.inf))  # each code-5 entry's time
+    settled = five & (t > start + 0.1)  # 0.1 s after each entry into code 5 (the release's dump time)
+    assert settled.sum() >= 10
+    assert np.max(np.asarray(r.trace["wheel_pressure_rr_pa"])[settled]) < 5 * BAR
