@@ -121,16 +121,17 @@ P378 = {"speed": 76.49012023309223, "mu": 0.6661434757430691, "delay": 0.3386205
         "curve": "r1000", "fault": "inlet_stuck_fr"}
 
 
-@pytest.mark.parametrize("flag", [2, pytest.param(1, marks=pytest.mark.xfail(
-    strict=True, reason="flag 1: the blown rear held at the driver's 10-44 bar while code 5 says 'rear wheel released'"))])
-def test_spin_front_keeps_the_blown_rear_released_under_flag_2(flag):
-    """Code 5 (spin_front_flag) states 'rear wheel released': with flag 2 the blown-side rule stands aside there, so
-    every sample with code 5 from 0.1 s after each entry has RR < 5 bar (measured 1.4 bar); flag 1 keeps RR with the
-    driver (10-44 bar) - the code then says something the brakes do not do."""
+@pytest.mark.parametrize("flag", [1, pytest.param(0, marks=pytest.mark.xfail(
+    strict=True, reason="flag 0: the blown rear held at the driver's 10-44 bar while code 5 says 'rear wheel released'"))])
+def test_spin_front_keeps_the_blown_rear_released(flag):
+    """Code 5 (spin_front_flag) states 'rear wheel released': with blown_side_spin_front_flag (candidate) the
+    blown-side rule (blown_side_fault_flag 1) stands aside there, so every sample with code 5 from 0.1 s after each
+    entry has RR < 5 bar (measured 1.4 bar); at 0 RR stays with the driver (10-44 bar) - the code then says something
+    the brakes do not do."""
     import vehicle_assist as va
 
     env = load_envelope("tire_blowout_faults")
-    r = va.simulate(env.scenario(P378).with_sets(f"vehicle.blowout_compensation.blown_side_fault_flag={flag}"),
+    r = va.simulate(env.scenario(P378).with_sets(*ON, f"vehicle.blowout_compensation.blown_side_spin_front_flag={flag}"),
                     requirements=False)
     t = np.asarray(r.trace["time_s"])
     code = np.asarray(r.trace["blowout_limit_code"])

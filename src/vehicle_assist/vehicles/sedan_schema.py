@@ -428,8 +428,10 @@ class SedanBlowoutCompensation(Strict):
     # the blown side's other wheel (other axle, same side) has its inlet diagnosed stuck closed: while the driver brakes
     # the blown wheel is not released (driver's pressure and ABS) and no counter-brake is added, limit code 6; 0 = the
     # code before (released, the whole side unbraked; tire_blowout_findings.md L1, session l, K1's r41 #360)
-    # 2 (review RL2, candidate): as 1 but the rule stands aside while the spin-front rule governs (limit code 5)
-    blown_side_fault_flag: Annotated[int, Field(ge=0, le=2)] = 0
+    blown_side_fault_flag: Annotated[int, Field(ge=0, le=1)] = 0
+    # (review RL2, candidate) blown_side_fault_flag's rule stands aside while the spin-front rule governs (limit code 5:
+    # blown rear released, the compensating side's front braked); 0 = the code before (the rule acts under code 5 too)
+    blown_side_spin_front_flag: Annotated[int, Field(ge=0, le=1)] = 0
 
     @model_validator(mode="after")
     def _order(self):
