@@ -387,7 +387,10 @@ ROLLING_RESISTANCE_MAX_FRAC = 0.018  # std (common.md 3.3): passenger-car rollin
 RISE_MARGIN_MPS2 = 2.0  # assumed: the BJ2500 cannot speed up faster than a_x,meas + 2 m/s^2 (0-100 km/h in ~14 s)
 LIMIT_NONE, LIMIT_OTHER_AXLE, LIMIT_NO_AUTHORITY, LIMIT_YAW_BOUND, LIMIT_SIDESLIP_BOUND, LIMIT_SPIN_FRONT = 0, 1, 2, 3, 4, 5
 LIMIT_BLOWN_SIDE = 6  # (blown_side_fault_flag, session l L1) the blown side's other wheel's inlet stuck closed
-LIMIT_REASONS = ("none", "opposite inlet valve stuck closed: other-axle wheel of the same side, capped at its lock pressure",
+LIMIT_REASONS = ("none", "opposite inlet valve stuck closed: other-axle wheel of the same side, capped at its lock pressure; "
+                 "the blown side's other-axle wheel yaw-limited (rear blown: its front released beyond the ESP's yaw "
+                 "rates, substitute_yaw_limit_flag; front blown: its rear held at no more than the substitute, the car "
+                 "braking on its rears alone, and released beyond the yaw dump rate, front_substitute_rear_flag)",
                  "opposite inlet valve and its substitute stuck closed: no braking authority",
                  "refused: yaw rate above the stable bound 0.85*mu*g/u (Rajamani 2012, 8.x)",
                  "refused: sideslip estimate above the stable bound atan(0.02*mu*g) (Rajamani 2012, 8.x)",
@@ -1601,6 +1604,9 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         substitute_yaw_limit(b, tg, yaw_rate, p_est, requests, p, st)
     if p.blowout_compensation_blown_side_fault_flag > 0.5 and b >= 0:
         blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, p)
+    if (p.blowout_compensation_front_substitute_rear_flag > 0.5 and mode == LIMITED
+            and st[S_LIMIT_CODE] == LIMIT_OTHER_AXLE and 0 <= b < 2 and tg >= 2):
+        front_substitute_rear(b, tg, braking, yaw_rate, r_ref, p_est, requests, p, st)
     if st[S_GB_ON] > 0.5:
         y_gb = yaw_rate
         if p.blowout_compensation_reject_heading_return_flag > 1.5:
@@ -1687,6 +1693,41 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
         st[S_REAR_CAP] = -1.0
     if st[S_LIMIT_CODE] == LIMIT_NONE:
         st[S_LIMIT_CODE] = LIMIT_BLOWN_SIDE
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def front_substitute_rear(b, tg, braking, yaw_err, r_ref, p_est, requests, p, st):
+    """``front_substitute_rear_flag`` (0 = the code before; tire_blowout_findings.md L2, session l): K2's
+    ``substitute_yaw_limit`` for a blown FRONT. LIMITED on the substitute REAR (a front blowout b whose opposite front's
+    inlet is stuck closed, limit code 1: ``_substitute`` brakes the rear on the other side), while the driver brakes.
+    Both fronts are then unbraked (the blown one released, the other stuck) and the car brakes on its rears alone. The
+    rear on the BLOWN side is the wheel whose brake force yaws the car toward the blown side. Without the function
+    the ESP's rear select-low keeps both rears at one pressure (functions/esp.py: both rears follow the more critical
+    request), so the rear axle adds no yaw moment; with the function the substitute is the compensation's wheel (its
+    requests bypass the select-low) and the blown side's rear took the driver's / HBA pump pressure ABOVE the
+    substitute (K1's f_r3 #24, FL blown, FR stuck, 117 km/h, panic pedal: RL 80 bar against the substitute RR's 65,
+    yaw toward FL 0.29 rad/s, refused at 2.4 s and spun: 19.585 m against the twin's 13.684).
+
+    * Select-low on pressure: the blown side's rear is held at no more than the substitute's pressure (the braking
+      rule's rear-pair hold, S_REAR_CAP, functions/esp.py: held at the level, dumped above it by > 1 bar; ABS's own
+      hold/dump win), so the rear pair's moment points away from the blown side, as the compensation intends.
+    * Yaw limitation (as K2's rule for the blown side's front, the ESP's GMA thresholds; no new number): while the yaw
+      error toward the blown side (steered reference) exceeds esp.yaw_dump_rate, the blown side's rear is released -
+      except in a curve steered toward the blown side (steered reference beyond the yaw dead band, the gate of the
+      braking rule's lock floor) or with the sideslip phase-plane state outside the stable region (``phase_plane_
+      unstable``): there the car already rotates on a saturated rear axle, releasing the inner rear leaves the outer
+      rear alone braked and the car slid on almost unbraked until the refusal (measured, findings L2: f_r11 #24 8.599
+      -> 18.564 m without the curve gate, f_r41 #459 13.343 -> 14.223 m without the phase-plane gate); the
+      select-low still holds it there."""
+    w = b + 2  # the rear on the blown side
+    if braking < 0.5:
+        return
+    if (toward_blown_side(b, yaw_err) > p.esp_yaw_dump_rate_radps
+            and toward_blown_side(b, r_ref) <= p.blowout_compensation_yaw_deadband_radps
+            and not phase_plane_unstable(st[S_BETA_EST], st[S_BETA_DOT], p)):
+        requests[w] = Q_RELEASE
+    else:
+        st[S_REAR_CAP] = max(p_est[tg], 0.0)  # select-low on pressure: at most the substitute's level
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")

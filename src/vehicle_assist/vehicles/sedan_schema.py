@@ -417,6 +417,12 @@ class SedanBlowoutCompensation(Strict):
     # so its own ABS/HBA re-build cannot saw it back up (session k K7, RK1's latched hold; measured, NOT shipped: 2 new
     # never-worse violations on the 444 stuck rear points, tire_blowout_findings.md K7)
     substitute_yaw_limit_flag: Annotated[int, Field(ge=0, le=2)] = 1
+    # LIMITED on the substitute REAR (front blowout, the opposite front's inlet stuck, limit code 1) while the driver
+    # brakes: the blown side's rear held at no more than the substitute's pressure (the ESP's rear select-low, which the
+    # compensation's target bypasses) and released while the yaw error toward the blown side exceeds esp.yaw_dump_rate
+    # (not in a curve toward the blown side nor outside the phase-plane stable region); 0 = the code before
+    # (tire_blowout_findings.md L2, session l)
+    front_substitute_rear_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # a blowout refused AT its detection (beyond the stable region before the function acted): its blown wheel is left
     # to the driver's pressure and ABS (Q_NONE) - the car without the function - not released as in ENDED; a refusal
     # during the compensation keeps the release; 0 = the code before (released; tire_blowout_findings.md K6, session k)
