@@ -81,3 +81,54 @@ def test_24_blown_side_rear_not_above_the_substitute(runs):
     assert on <= PAIR_MARGIN_PA, on / 1e5
     defect = _rear_pair_excess(runs["defect"])
     assert defect > PAIR_MARGIN_PA, defect / 1e5
+
+
+# Review RL3 (session l): the four tests above pin only the select-low cap. Mutants of front_substitute_rear that all
+# passed them (measured, tire_blowout_findings.md RL3): the release removed (cap only), the release's yaw sign flipped,
+# the curve gate's sign flipped, the phase-plane gate removed. The points below (the lead's fault sets, same envelope,
+# fault from t = 0) check the same requirement (never worse than the twin with the same fault) where the release and its
+# gates decide it. Robustness = twin - function (m).
+# /tmp/lead/l/base/f_r3 #54: FL blown, FR stuck, straight, follower, 115 km/h, mu 0.496, pedal 1.19 s.
+# function 2.886, twin 11.098; flag 0 16.621; cap only / release sign flipped 14.623.
+P54 = {"speed": 114.77901331020196, "mu": 0.49620532691536845, "delay": 0.41217318486205834,
+       "wheel_speed_noise": 0.19436911490554884, "noise_seed": 5142.0, "brake_gain": 0.9516392694334314,
+       "accumulator": 119.35489890948396, "brake.start_s": 1.1914718996572977, "brake.level_frac": 0.2295889228305815,
+       "brake.rate_per_s": 14.248644218260972, "braking": "brakes", "wheel": "fl", "driver": "follow",
+       "curve": "straight", "fault": "inlet_stuck_fr"}
+# /tmp/lead/l/base/f_r41 #309: FR blown, FL stuck, LEFT curve r1000 (steered AWAY from the blown side: the curve gate
+# must let the release act), fixed steering, 103 km/h, mu 0.346. function 10.159, twin 10.930; flag 0 13.690; cap only /
+# release sign flipped / curve gate's sign flipped 14.255.
+P309 = {"speed": 102.89808906865272, "mu": 0.34636769643824644, "delay": 0.10000285925191393,
+        "wheel_speed_noise": 0.268374503562595, "noise_seed": 3463.0, "brake_gain": 1.1776525537535614,
+        "accumulator": 73.32034036713664, "brake.start_s": 0.8633359241460539, "brake.level_frac": 0.22241549299725005,
+        "brake.rate_per_s": 1.4101702693199711, "braking": "brakes", "wheel": "fr", "driver": "fixed",
+        "curve": "r1000", "fault": "inlet_stuck_fl"}
+# /tmp/lead/l/base/f_r41 #459: FR blown, FL stuck, r650, fixed, 110 km/h, mu 0.303 (L2's phase-plane gate point).
+# function 13.373, twin 13.456 (margin 0.083 m); without the phase-plane gate 14.223; flag 0 13.343 (passes: this one
+# guards the gate, it is not a flag-0 negative control).
+P459 = {"speed": 110.47107304299398, "mu": 0.3025390669435406, "delay": 0.33770351071126803,
+        "wheel_speed_noise": 0.1620515628980955, "noise_seed": 5861.0, "brake_gain": 0.8225244736553101,
+        "accumulator": 113.93599389892722, "brake.start_s": 0.6948995801046896, "brake.level_frac": 0.1624648777712299,
+        "brake.rate_per_s": 28.40120964129963, "braking": "brakes", "wheel": "fr", "driver": "fixed",
+        "curve": "r650", "fault": "inlet_stuck_fl"}
+
+
+@pytest.fixture(scope="module")
+def env():
+    return load_envelope("tire_blowout_faults")
+
+
+@pytest.mark.parametrize("point", [P54, P309, P459], ids=["f_r3_54", "f_r41_309", "f_r41_459"])
+def test_release_and_gates_never_worse_than_without_compensation(env, point):
+    """The yaw limitation (the blown side's rear released beyond esp.yaw_dump_rate toward the blown side) and its two
+    gates, through the requirement: the function's run max <= the twin's (same fault)."""
+    on = _run(env, point).metrics[METRIC]
+    none = _run(env, point, baseline=True).metrics[METRIC]
+    assert on <= none, (on, none)
+
+
+@pytest.mark.parametrize("point", [P54, P309], ids=["f_r3_54", "f_r41_309"])
+def test_release_points_defect_is_worse_than_without_compensation(env, point):
+    """Negative control: the code before (flag 0) fails the same check at these two points (16.621 > 11.098,
+    13.690 > 10.930)."""
+    assert _run(env, point, sets=DEFECT).metrics[METRIC] > _run(env, point, baseline=True).metrics[METRIC]
