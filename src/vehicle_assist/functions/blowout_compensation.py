@@ -1779,6 +1779,24 @@ def heading_return_kick_seen(st, toward, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def heading_return_own_restricted(st, p):
+    """(``heading_return_own_yaw_flag``) Does the toward-the-reference restriction (values 2-5) apply to this armed heading
+    return? Values 2, 3, 4: always. Value 5 (review RL1, session l): only when the car's own yaw error at the detection
+    (S_GB_R0, before any action of the function) was already beyond the plausibility threshold abort_yaw_rate away from
+    the named wheel - the rejection is then the car's own yaw, not a kick of the function's (lead fa_r11 #108: R0 -2.83
+    deg/s, rejected 5 ms after the detection; L5's search s11 #238: -2.24 deg/s, 5 ms): there is no caused heading to give
+    back and the rule may only bring the yaw rate TO the steered reference. Otherwise (the function acted: J5's premise,
+    fa_cau #25, fa_r11 #98) J5/J7's heading return is left as it was (value 0), since giving a heading back needs a yaw
+    rate past the reference. No new threshold (value 1's test, abort_yaw_rate). 0/1: never."""
+    v = p.blowout_compensation_heading_return_own_yaw_flag
+    if v < 1.5:
+        return False
+    if v > 4.5:
+        return st[S_GB_R0] < -p.blowout_compensation_abort_yaw_rate_radps
+    return True
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def heading_return_toward_reference(w, yaw_err, p):
     """(``heading_return_own_yaw_flag`` 3 shipped / 2 candidate, session l L5; 0/1 = the code before: True) May ``reject_heading_return``
     release front ``w``? Not when the car's yaw error against the rule's steered reference (``yaw_err``, measured minus
@@ -1791,7 +1809,7 @@ def heading_return_toward_reference(w, yaw_err, p):
         return True
     turn = -1.0 if w % 2 == 0 else 1.0  # FL/RL released: the car yaws right (-)
     if p.blowout_compensation_heading_return_own_yaw_flag > 2.5:
-        return yaw_err * turn <= 0.0  # (value 3, candidate: no dead band - only releases that turn the car toward it)
+        return yaw_err * turn <= 0.0  # (values 3 (shipped), 4, 5: no dead band - only releases that turn the car toward it)
     return yaw_err * turn <= p.blowout_compensation_yaw_deadband_radps
 
 
@@ -1836,12 +1854,20 @@ def reject_heading_return(st, mode, braking, yaw_rate, v_ref, p_est, requests, p
     if abs(e) <= db:
         return
     w = heading_return_wheel(bb, e < 0.0)
-    if not heading_return_toward_reference(w, yaw_rate, p):
+    restricted = heading_return_own_restricted(st, p)
+    if restricted and not heading_return_toward_reference(w, yaw_rate, p):
         return
     # the pressure difference to the other front that removes the rate error in one yaw-mode time constant
     # (I_z*|e|/tau, eq. 28's moment-to-pressure of the front axle, ECU nominal data): released down to it, then the
     # driver's and ABS's again (a release only: never above what the pedal asks)
-    dp = required_pressure_pa(p.body_yaw_inertia_kgm2 * abs(e) / (0.25 * t_s), p.body_wheel_radius_m,
+    e_m = abs(e)
+    if restricted and p.blowout_compensation_heading_return_own_yaw_flag > 3.5:
+        # (heading_return_own_yaw_flag 4 and 5, review RL1) the release turns the car TOWARD the steered reference (value 3's
+        # gate) and is sized to the rate error to that reference, not beyond it: a release sized to the rule's own
+        # target (S_GB_R0 + the return rate, up to abort_yaw_rate + the baseline past the reference) crosses the
+        # reference and the released front's ABS re-build carries the moment on after value 3's gate closes
+        e_m = min(e_m, abs(yaw_rate))
+    dp = required_pressure_pa(p.body_yaw_inertia_kgm2 * e_m / (0.25 * t_s), p.body_wheel_radius_m,
                               0.5 * p.chassis_front_track_m, p.brakes_front_gain_nm_per_pa)
     if p.blowout_compensation_heading_return_line_flag > 0.5:
         # (heading_return_line_flag, session k K3; 0 = the code before: A_P_EST of both fronts) the released front and

@@ -427,10 +427,12 @@ class SedanBlowoutCompensation(Strict):
     # to the driver's pressure and ABS (Q_NONE) - the car without the function - not released as in ENDED; a refusal
     # during the compensation keeps the release; 0 = the code before (released; tire_blowout_findings.md K6, session k)
     refused_blown_driver_flag: Annotated[int, Field(ge=0, le=1)] = 1
-    # (session l, L5) reject_heading_return: 3 = never release a front whose release turns the car further from the
-    # steered reference than it is (shipped); 2 = the same beyond yaw_deadband only; 1 = not armed when the detection's
-    # yaw error was already beyond abort_yaw_rate away from the named wheel; 0 = the code before (findings L5)
-    heading_return_own_yaw_flag: Annotated[int, Field(ge=0, le=3)] = 3
+    # (session l, L5; RL1) reject_heading_return: 4 = as 3, and the allowed release sized to the rate error to the
+    # steered reference, not to the rule's target (shipped, review RL1); 3 = never release a front whose release turns the
+    # car further from the steered reference than it is (L5); 2 = the same beyond yaw_deadband only; 1 = not armed when
+    # the detection's yaw error was already beyond abort_yaw_rate away from the named wheel; 5 = 4 only with such an
+    # own-yaw baseline, otherwise as 0 (RL1 candidate); 0 = the code before (findings L5, RL1)
+    heading_return_own_yaw_flag: Annotated[int, Field(ge=0, le=5)] = 4
     # the blown side's other wheel (other axle, same side) has its inlet diagnosed stuck closed: while the driver brakes
     # the blown wheel is not released (driver's pressure and ABS) and no counter-brake is added, limit code 6; 0 = the
     # code before (released, the whole side unbraked; tire_blowout_findings.md L1, session l, K1's r41 #360)
