@@ -366,7 +366,10 @@ S_REFUSED_DET = S_GB_T0 + 1
 # toward the blown side entered the band between esp.yaw_hold_rate and esp.yaw_dump_rate (or its level at the last dump
 # period above esp.yaw_dump_rate) [Pa]; -1 = none (below esp.yaw_hold_rate)
 S_SUB_HOLD = S_REFUSED_DET + 1
-STATE_SIZE = S_SUB_HOLD + 1
+# (blown_side_fault_flag 3, session l L6) per wheel fl fr rl rr: the ECU's line-pressure estimate when its inlet was
+# first diagnosed stuck closed - the pressure trapped in that wheel [Pa]; -1 = not diagnosed (yet)
+S_L6_TRAPPED = S_SUB_HOLD + 1
+STATE_SIZE = S_L6_TRAPPED + 4
 # (heading_return_line_flag, session k K3) the fraction of the other front's pressure the heading return may take off the
 # released front: with it the front axle keeps (2 - 0.5)/2 = 0.75 of its brake force, UN R13-H Annex 6 para 5.2's
 # minimum adhesion utilisation epsilon >= 0.75 of an anti-lock car transposed onto the axle the rule acts on (assumed
@@ -426,6 +429,7 @@ def initial_state() -> np.ndarray:
     st[S_SUSPECT] = -1.0
     st[S_TARGET] = -1.0
     st[S_SUB_HOLD] = -1.0
+    st[S_L6_TRAPPED:S_L6_TRAPPED + 4] = -1.0
     st[S_EXCLUDED] = -1.0
     st[S_REJECTED] = -1.0
     st[S_BUF_LAST] = -1.0
@@ -1199,6 +1203,10 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     _push_pressures(st, p_est)
     if p.blowout_compensation_enabled_flag < 0.5:
         return n_events
+    if p.blowout_compensation_blown_side_fault_flag > 2.5:
+        for i in range(4):
+            if inlet_ok[i] < 0.5 and st[S_L6_TRAPPED + i] < 0.0:
+                st[S_L6_TRAPPED + i] = st[S_P_LINE + i]  # (blown_side_fault_flag 3) the pressure the fault trapped
     r_ref = reference_yaw_rate(steer_rad, v_ref, p)
     yaw_rate = yaw_rate_meas - r_ref
     a_y_ref = v_ref * r_ref  # lateral acceleration the driver's steering asks for (rear_linear_limit)
@@ -1679,16 +1687,38 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
     run on the proportioned pressure), and the release left it with none. With a blown FRONT and its side's rear stuck
     the side loses only a proportioned rear brake and the front braking rule's four-force balance (``braking_rule``,
     rear pair cap) governs: applied there too the rule made 14 of 18 such changed points of the lead's fault sets worse
-    (4 new never-worse violations, f_r41 #480 +0.080 -> -0.916, f_r3 #1 +0.329 -> -0.616; tire_blowout_findings.md L1)."""
+    (4 new never-worse violations, f_r41 #480 +0.080 -> -0.916, f_r3 #1 +0.329 -> -0.616; tire_blowout_findings.md L1).
+
+    Value 2 (session l L6, tire_blowout_findings.md L6): the counter-brake rear is compared with the blown rear on the
+    ECU's line-lag estimate (A_P_LINE, in S_P_LINE from functions/esp.py) instead of A_P_EST. At the pedal the released
+    blown rear goes to Q_NONE = W_N, and A_P_EST in W_N takes the source (the driver's proportioned pressure) at once
+    (esp._estimate): at r41 #360 it read 52 bar with 9.5 in the wheel, so value 1 stopped dumping RL at 14.7 bar and
+    the pair's common ABS modulation (select-low: both rears the same mode) carried the offset for seconds (RL - RR 4-5,
+    later 1-2 bar; twin 0) - a moment away from the blown side the lane follower over-corrected (0.193 vs the twin's
+    0.172 m). On the line estimate the dump runs until the pair carries one pressure: 0.169 m. A front compensating
+    wheel keeps the master pressure as its ceiling.
+    Value 3: value 2 and the premise checked - the blown side's front is unbraked: the pressure the fault trapped in
+    it (S_L6_TRAPPED, the ECU's line estimate when its inlet was first diagnosed stuck) below esp.plausibility_pressure
+    (the ESP's own 'unbraked' threshold). A front stuck while the driver brakes keeps the brake it had (L3's
+    fault_time: t_r7 #219, FR stuck at 1.36 s holding 52.8 bar): the blown side is braked, the paper's release stands
+    (value 2 there: 2.213 m vs the twin's 2.084; value 3 1.223 m as value 0)."""
     if b < 2:
         return  # a blown REAR only (its side's front stuck): measured, see the docstring
     s = b - 2  # the blown side's front
     if inlet_ok[s] > 0.5 or braking < 0.5:
         return
+    if p.blowout_compensation_blown_side_fault_flag > 2.5 and st[S_L6_TRAPPED + s] >= p.esp_plausibility_pressure_pa:
+        return  # (value 3) the stuck front holds a brake: the side is not unbraked, the paper's release stands
     requests[b] = Q_NONE
     if tg >= 0 and (mode == BUILD or mode == HOLD or mode == LIMITED):
         ceiling = p_est[b] if tg >= 2 else p_mc
-        requests[tg] = Q_RELEASE if p_est[tg] > ceiling + 1.0e5 else Q_NONE
+        p_tg = p_est[tg]
+        if p.blowout_compensation_blown_side_fault_flag > 1.5:
+            # (value 2, 3) both on the ECU's line-lag estimate: A_P_EST of the re-braked blown rear (W_N) is the source
+            p_tg = st[S_P_LINE + tg]
+            if tg >= 2:
+                ceiling = st[S_P_LINE + b]
+        requests[tg] = Q_RELEASE if p_tg > ceiling + 1.0e5 else Q_NONE
         st[S_P_BRAKE] = -1.0
         st[S_REAR_CAP] = -1.0
     if st[S_LIMIT_CODE] == LIMIT_NONE:

@@ -436,7 +436,9 @@ class SedanBlowoutCompensation(Strict):
     # the blown side's other wheel (other axle, same side) has its inlet diagnosed stuck closed: while the driver brakes
     # the blown wheel is not released (driver's pressure and ABS) and no counter-brake is added, limit code 6; 0 = the
     # code before (released, the whole side unbraked; tire_blowout_findings.md L1, session l, K1's r41 #360)
-    blown_side_fault_flag: Annotated[int, Field(ge=0, le=1)] = 0
+    # 2 (L6): the rear pair compared on the ECU's line-lag estimate; 3 (L6): 2 + only while the stuck front is unbraked
+    # (the pressure trapped at its diagnosis below esp.plausibility_pressure)
+    blown_side_fault_flag: Annotated[int, Field(ge=0, le=3)] = 0
 
     @model_validator(mode="after")
     def _order(self):
