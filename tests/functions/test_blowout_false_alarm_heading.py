@@ -243,7 +243,10 @@ def test_baseline_is_not_one_gyro_sample(spike_deg_s):
     p = _params()
     dt = 0.005
     for flag, expect_quiet in ((1, True), (0, False)):
-        ecu = _detect(p, spike_deg_s, {"blowout_compensation_heading_return_mean_baseline_flag": flag})
+        # (review RL1, session l: the defect row isolated from heading_return_own_yaw_flag 4, whose release sized to
+        # the error to the steered reference leaves a car at the reference alone whatever the baseline)
+        ecu = _detect(p, spike_deg_s, {"blowout_compensation_heading_return_mean_baseline_flag": flag,
+                                       "blowout_compensation_heading_return_own_yaw_flag": 3})
         st = ecu.st
         # the rejection armed the rule with the caused heading 0 (the car never turned)
         st[bc.S_GB_ON], st[bc.S_GB_B], st[bc.S_GB_PSI] = 1.0, 1.0, 0.0

@@ -7,6 +7,11 @@ one gyro sample of +-0.5 deg/s at the detection instant, must not get a front re
 states the claim for the shipped configuration (no flag set), as a strict xfail (an honest red, the known open defect:
 J9 did not ship the mean because the shipped split-mu row needs the one sample; RJ2 item B / C). When the rule no longer
 holds a one-sample set-point the xfail turns XPASS and must be removed.
+
+Review RL1 (session l): XPASS since heading_return_own_yaw_flag 4 (the rule's releases only turn the car TOWARD the
+steered reference and are sized to the rate error to it: a car at the reference gets no release whatever the baseline
+holds), so the xfail is removed; the one-sample baseline itself is unchanged (J9's mean stays a candidate). The row at
+value 3 (L5: the sign gate alone, 0 <= 0 lets the release through at a zero yaw error) releases - the check can fail.
 """
 from __future__ import annotations
 
@@ -20,12 +25,12 @@ from vehicle_assist.functions import blowout_compensation as bc
 from vehicle_assist.scenarios.runner import pack_records
 
 
-def _released_after_spike(spike_deg_s):
+def _released_after_spike(spike_deg_s, **sets):
     from tests.support import BlowoutEcu
 
     sc = va.load_scenario("blowout_lf_60kph_paper")  # as test_blowout_false_alarm_heading._params
     p = pack_records([sc.vehicle.flat()])[0]
-    ecu = BlowoutEcu(p, v_mps=26.7)
+    ecu = BlowoutEcu(p, v_mps=26.7, **sets)
     kw = dict(braking=1.0, p_est=(40.0e5,) * 4)
     ecu.run(0.2, **kw)
     n = int(round(p.blowout_compensation_detection_delay_s / 0.005))
@@ -42,8 +47,13 @@ def _released_after_spike(spike_deg_s):
     return released
 
 
-@pytest.mark.xfail(strict=True, reason="shipped heading_return_mean_baseline_flag = 0: the baseline is the one gyro "
-                   "sample at the detection, held as a yaw-rate set-point for the stop (J9 / RJ2 B, open)")
 @pytest.mark.parametrize("spike_deg_s", [-0.5, 0.5])
 def test_shipped_rule_quiet_on_one_gyro_sample(spike_deg_s):
     assert not _released_after_spike(spike_deg_s)
+
+
+@pytest.mark.parametrize("spike_deg_s", [-0.5, 0.5])
+def test_value_3_releases_on_one_gyro_sample(spike_deg_s):
+    """Negative control (RL1): with L5's value 3 (and at 0) the one-sample set-point releases a front."""
+    assert _released_after_spike(spike_deg_s, blowout_compensation_heading_return_own_yaw_flag=3)
+    assert _released_after_spike(spike_deg_s, blowout_compensation_heading_return_own_yaw_flag=0)

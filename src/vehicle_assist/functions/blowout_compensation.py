@@ -366,7 +366,10 @@ S_REFUSED_DET = S_GB_T0 + 1
 # toward the blown side entered the band between esp.yaw_hold_rate and esp.yaw_dump_rate (or its level at the last dump
 # period above esp.yaw_dump_rate) [Pa]; -1 = none (below esp.yaw_hold_rate)
 S_SUB_HOLD = S_REFUSED_DET + 1
-STATE_SIZE = S_SUB_HOLD + 1
+# (blown_side_fault_flag 3, session l L6) per wheel fl fr rl rr: the ECU's line-pressure estimate when its inlet was
+# first diagnosed stuck closed - the pressure trapped in that wheel [Pa]; -1 = not diagnosed (yet)
+S_L6_TRAPPED = S_SUB_HOLD + 1
+STATE_SIZE = S_L6_TRAPPED + 4
 # (heading_return_line_flag, session k K3) the fraction of the other front's pressure the heading return may take off the
 # released front: with it the front axle keeps (2 - 0.5)/2 = 0.75 of its brake force, UN R13-H Annex 6 para 5.2's
 # minimum adhesion utilisation epsilon >= 0.75 of an anti-lock car transposed onto the axle the rule acts on (assumed
@@ -387,7 +390,10 @@ ROLLING_RESISTANCE_MAX_FRAC = 0.018  # std (common.md 3.3): passenger-car rollin
 RISE_MARGIN_MPS2 = 2.0  # assumed: the BJ2500 cannot speed up faster than a_x,meas + 2 m/s^2 (0-100 km/h in ~14 s)
 LIMIT_NONE, LIMIT_OTHER_AXLE, LIMIT_NO_AUTHORITY, LIMIT_YAW_BOUND, LIMIT_SIDESLIP_BOUND, LIMIT_SPIN_FRONT = 0, 1, 2, 3, 4, 5
 LIMIT_BLOWN_SIDE = 6  # (blown_side_fault_flag, session l L1) the blown side's other wheel's inlet stuck closed
-LIMIT_REASONS = ("none", "opposite inlet valve stuck closed: other-axle wheel of the same side, capped at its lock pressure",
+LIMIT_REASONS = ("none", "opposite inlet valve stuck closed: other-axle wheel of the same side, capped at its lock pressure; "
+                 "the blown side's other-axle wheel yaw-limited (rear blown: its front released beyond the ESP's yaw "
+                 "rates, substitute_yaw_limit_flag; front blown: its rear held at no more than the substitute, the car "
+                 "braking on its rears alone, and released beyond the yaw dump rate, front_substitute_rear_flag)",
                  "opposite inlet valve and its substitute stuck closed: no braking authority",
                  "refused: yaw rate above the stable bound 0.85*mu*g/u (Rajamani 2012, 8.x)",
                  "refused: sideslip estimate above the stable bound atan(0.02*mu*g) (Rajamani 2012, 8.x)",
@@ -423,6 +429,7 @@ def initial_state() -> np.ndarray:
     st[S_SUSPECT] = -1.0
     st[S_TARGET] = -1.0
     st[S_SUB_HOLD] = -1.0
+    st[S_L6_TRAPPED:S_L6_TRAPPED + 4] = -1.0
     st[S_EXCLUDED] = -1.0
     st[S_REJECTED] = -1.0
     st[S_BUF_LAST] = -1.0
@@ -1196,6 +1203,10 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     _push_pressures(st, p_est)
     if p.blowout_compensation_enabled_flag < 0.5:
         return n_events
+    if p.blowout_compensation_blown_side_fault_flag > 2.5:
+        for i in range(4):
+            if inlet_ok[i] < 0.5 and st[S_L6_TRAPPED + i] < 0.0:
+                st[S_L6_TRAPPED + i] = st[S_P_LINE + i]  # (blown_side_fault_flag 3) the pressure the fault trapped
     r_ref = reference_yaw_rate(steer_rad, v_ref, p)
     yaw_rate = yaw_rate_meas - r_ref
     a_y_ref = v_ref * r_ref  # lateral acceleration the driver's steering asks for (rear_linear_limit)
@@ -1601,6 +1612,9 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         substitute_yaw_limit(b, tg, yaw_rate, p_est, requests, p, st)
     if p.blowout_compensation_blown_side_fault_flag > 0.5 and b >= 0:
         blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, p)
+    if (p.blowout_compensation_front_substitute_rear_flag > 0.5 and mode == LIMITED
+            and st[S_LIMIT_CODE] == LIMIT_OTHER_AXLE and 0 <= b < 2 and tg >= 2):
+        front_substitute_rear(b, tg, braking, yaw_rate, r_ref, p_est, requests, p, st)
     if st[S_GB_ON] > 0.5:
         y_gb = yaw_rate
         if p.blowout_compensation_reject_heading_return_flag > 1.5:
@@ -1673,7 +1687,21 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
     run on the proportioned pressure), and the release left it with none. With a blown FRONT and its side's rear stuck
     the side loses only a proportioned rear brake and the front braking rule's four-force balance (``braking_rule``,
     rear pair cap) governs: applied there too the rule made 14 of 18 such changed points of the lead's fault sets worse
-    (4 new never-worse violations, f_r41 #480 +0.080 -> -0.916, f_r3 #1 +0.329 -> -0.616; tire_blowout_findings.md L1)."""
+    (4 new never-worse violations, f_r41 #480 +0.080 -> -0.916, f_r3 #1 +0.329 -> -0.616; tire_blowout_findings.md L1).
+
+    Value 2 (session l L6, tire_blowout_findings.md L6): the counter-brake rear is compared with the blown rear on the
+    ECU's line-lag estimate (A_P_LINE, in S_P_LINE from functions/esp.py) instead of A_P_EST. At the pedal the released
+    blown rear goes to Q_NONE = W_N, and A_P_EST in W_N takes the source (the driver's proportioned pressure) at once
+    (esp._estimate): at r41 #360 it read 52 bar with 9.5 in the wheel, so value 1 stopped dumping RL at 14.7 bar and
+    the pair's common ABS modulation (select-low: both rears the same mode) carried the offset for seconds (RL - RR 4-5,
+    later 1-2 bar; twin 0) - a moment away from the blown side the lane follower over-corrected (0.193 vs the twin's
+    0.172 m). On the line estimate the dump runs until the pair carries one pressure: 0.169 m. A front compensating
+    wheel keeps the master pressure as its ceiling.
+    Value 3: value 2 and the premise checked - the blown side's front is unbraked: the pressure the fault trapped in
+    it (S_L6_TRAPPED, the ECU's line estimate when its inlet was first diagnosed stuck) below esp.plausibility_pressure
+    (the ESP's own 'unbraked' threshold). A front stuck while the driver brakes keeps the brake it had (L3's
+    fault_time: t_r7 #219, FR stuck at 1.36 s holding 52.8 bar): the blown side is braked, the paper's release stands
+    (value 2 there: 2.213 m vs the twin's 2.084; value 3 1.223 m as value 0)."""
     if b < 2:
         return  # a blown REAR only (its side's front stuck): measured, see the docstring
     s = b - 2  # the blown side's front
@@ -1681,8 +1709,9 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
     # compensation back - measured at r41 #360 with the pedal released at 2.6 s: RL 32 bar, RR 1.4 bar, code still 6 to
     # the end) the code it wrote is taken back; it only ever replaced LIMIT_NONE. No dynamics change (no rule reads 6)
     stand_aside = inlet_ok[s] > 0.5 or braking < 0.5
-    # (blown_side_spin_front_flag, review RL2, candidate, 0 = the code before) nor while the spin-front rule governs (code 5: the blown rear released and the
-    # compensating side's front braked against a rotation TOWARD the blown side): the blown rear's brake is a moment
+    # (blown_side_spin_front_flag, review RL2, candidate, 0 = the code before) nor while the spin-front rule governs
+    # (code 5: the blown rear released and the compensating side's front braked against a rotation TOWARD the blown
+    # side): the blown rear's brake is a moment
     # toward the blown side and takes the rear axle's lateral force - the spin's direction (f_r41 #378: RR 10-44 bar
     # for 101 samples of code 5 while the code said "rear wheel released")
     if p.blowout_compensation_blown_side_spin_front_flag > 0.5 and st[S_LIMIT_CODE] == LIMIT_SPIN_FRONT:
@@ -1691,14 +1720,57 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
         if st[S_LIMIT_CODE] == LIMIT_BLOWN_SIDE:
             st[S_LIMIT_CODE] = LIMIT_NONE
         return
+    if p.blowout_compensation_blown_side_fault_flag > 2.5 and st[S_L6_TRAPPED + s] >= p.esp_plausibility_pressure_pa:
+        return  # (value 3) the stuck front holds a brake: the side is not unbraked, the paper's release stands
     requests[b] = Q_NONE
     if tg >= 0 and (mode == BUILD or mode == HOLD or mode == LIMITED):
         ceiling = p_est[b] if tg >= 2 else p_mc
-        requests[tg] = Q_RELEASE if p_est[tg] > ceiling + 1.0e5 else Q_NONE
+        p_tg = p_est[tg]
+        if p.blowout_compensation_blown_side_fault_flag > 1.5:
+            # (value 2, 3) both on the ECU's line-lag estimate: A_P_EST of the re-braked blown rear (W_N) is the source
+            p_tg = st[S_P_LINE + tg]
+            if tg >= 2:
+                ceiling = st[S_P_LINE + b]
+        requests[tg] = Q_RELEASE if p_tg > ceiling + 1.0e5 else Q_NONE
         st[S_P_BRAKE] = -1.0
         st[S_REAR_CAP] = -1.0
     if st[S_LIMIT_CODE] == LIMIT_NONE:
         st[S_LIMIT_CODE] = LIMIT_BLOWN_SIDE
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def front_substitute_rear(b, tg, braking, yaw_err, r_ref, p_est, requests, p, st):
+    """``front_substitute_rear_flag`` (0 = the code before; tire_blowout_findings.md L2, session l): K2's
+    ``substitute_yaw_limit`` for a blown FRONT. LIMITED on the substitute REAR (a front blowout b whose opposite front's
+    inlet is stuck closed, limit code 1: ``_substitute`` brakes the rear on the other side), while the driver brakes.
+    Both fronts are then unbraked (the blown one released, the other stuck) and the car brakes on its rears alone. The
+    rear on the BLOWN side is the wheel whose brake force yaws the car toward the blown side. Without the function
+    the ESP's rear select-low keeps both rears at one pressure (functions/esp.py: both rears follow the more critical
+    request), so the rear axle adds no yaw moment; with the function the substitute is the compensation's wheel (its
+    requests bypass the select-low) and the blown side's rear took the driver's / HBA pump pressure ABOVE the
+    substitute (K1's f_r3 #24, FL blown, FR stuck, 117 km/h, panic pedal: RL 80 bar against the substitute RR's 65,
+    yaw toward FL 0.29 rad/s, refused at 2.4 s and spun: 19.585 m against the twin's 13.684).
+
+    * Select-low on pressure: the blown side's rear is held at no more than the substitute's pressure (the braking
+      rule's rear-pair hold, S_REAR_CAP, functions/esp.py: held at the level, dumped above it by > 1 bar; ABS's own
+      hold/dump win), so the rear pair's moment points away from the blown side, as the compensation intends.
+    * Yaw limitation (as K2's rule for the blown side's front, the ESP's GMA thresholds; no new number): while the yaw
+      error toward the blown side (steered reference) exceeds esp.yaw_dump_rate, the blown side's rear is released -
+      except in a curve steered toward the blown side (steered reference beyond the yaw dead band, the gate of the
+      braking rule's lock floor) or with the sideslip phase-plane state outside the stable region (``phase_plane_
+      unstable``): there the car already rotates on a saturated rear axle, releasing the inner rear leaves the outer
+      rear alone braked and the car slid on almost unbraked until the refusal (measured, findings L2: f_r11 #24 8.599
+      -> 18.564 m without the curve gate, f_r41 #459 13.343 -> 14.223 m without the phase-plane gate); the
+      select-low still holds it there."""
+    w = b + 2  # the rear on the blown side
+    if braking < 0.5:
+        return
+    if (toward_blown_side(b, yaw_err) > p.esp_yaw_dump_rate_radps
+            and toward_blown_side(b, r_ref) <= p.blowout_compensation_yaw_deadband_radps
+            and not phase_plane_unstable(st[S_BETA_EST], st[S_BETA_DOT], p)):
+        requests[w] = Q_RELEASE
+    else:
+        st[S_REAR_CAP] = max(p_est[tg], 0.0)  # select-low on pressure: at most the substitute's level
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
@@ -1750,6 +1822,24 @@ def heading_return_kick_seen(st, toward, p):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def heading_return_own_restricted(st, p):
+    """(``heading_return_own_yaw_flag``) Does the toward-the-reference restriction (values 2-5) apply to this armed heading
+    return? Values 2, 3, 4: always. Value 5 (review RL1, session l): only when the car's own yaw error at the detection
+    (S_GB_R0, before any action of the function) was already beyond the plausibility threshold abort_yaw_rate away from
+    the named wheel - the rejection is then the car's own yaw, not a kick of the function's (lead fa_r11 #108: R0 -2.83
+    deg/s, rejected 5 ms after the detection; L5's search s11 #238: -2.24 deg/s, 5 ms): there is no caused heading to give
+    back and the rule may only bring the yaw rate TO the steered reference. Otherwise (the function acted: J5's premise,
+    fa_cau #25, fa_r11 #98) J5/J7's heading return is left as it was (value 0), since giving a heading back needs a yaw
+    rate past the reference. No new threshold (value 1's test, abort_yaw_rate). 0/1: never."""
+    v = p.blowout_compensation_heading_return_own_yaw_flag
+    if v < 1.5:
+        return False
+    if v > 4.5:
+        return st[S_GB_R0] < -p.blowout_compensation_abort_yaw_rate_radps
+    return True
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def heading_return_toward_reference(w, yaw_err, p):
     """(``heading_return_own_yaw_flag`` 3 shipped / 2 candidate, session l L5; 0/1 = the code before: True) May ``reject_heading_return``
     release front ``w``? Not when the car's yaw error against the rule's steered reference (``yaw_err``, measured minus
@@ -1762,7 +1852,7 @@ def heading_return_toward_reference(w, yaw_err, p):
         return True
     turn = -1.0 if w % 2 == 0 else 1.0  # FL/RL released: the car yaws right (-)
     if p.blowout_compensation_heading_return_own_yaw_flag > 2.5:
-        return yaw_err * turn <= 0.0  # (value 3, candidate: no dead band - only releases that turn the car toward it)
+        return yaw_err * turn <= 0.0  # (values 3 (shipped), 4, 5: no dead band - only releases that turn the car toward it)
     return yaw_err * turn <= p.blowout_compensation_yaw_deadband_radps
 
 
@@ -1807,12 +1897,20 @@ def reject_heading_return(st, mode, braking, yaw_rate, v_ref, p_est, requests, p
     if abs(e) <= db:
         return
     w = heading_return_wheel(bb, e < 0.0)
-    if not heading_return_toward_reference(w, yaw_rate, p):
+    restricted = heading_return_own_restricted(st, p)
+    if restricted and not heading_return_toward_reference(w, yaw_rate, p):
         return
     # the pressure difference to the other front that removes the rate error in one yaw-mode time constant
     # (I_z*|e|/tau, eq. 28's moment-to-pressure of the front axle, ECU nominal data): released down to it, then the
     # driver's and ABS's again (a release only: never above what the pedal asks)
-    dp = required_pressure_pa(p.body_yaw_inertia_kgm2 * abs(e) / (0.25 * t_s), p.body_wheel_radius_m,
+    e_m = abs(e)
+    if restricted and p.blowout_compensation_heading_return_own_yaw_flag > 3.5:
+        # (heading_return_own_yaw_flag 4 and 5, review RL1) the release turns the car TOWARD the steered reference (value 3's
+        # gate) and is sized to the rate error to that reference, not beyond it: a release sized to the rule's own
+        # target (S_GB_R0 + the return rate, up to abort_yaw_rate + the baseline past the reference) crosses the
+        # reference and the released front's ABS re-build carries the moment on after value 3's gate closes
+        e_m = min(e_m, abs(yaw_rate))
+    dp = required_pressure_pa(p.body_yaw_inertia_kgm2 * e_m / (0.25 * t_s), p.body_wheel_radius_m,
                               0.5 * p.chassis_front_track_m, p.brakes_front_gain_nm_per_pa)
     if p.blowout_compensation_heading_return_line_flag > 0.5:
         # (heading_return_line_flag, session k K3; 0 = the code before: A_P_EST of both fronts) the released front and

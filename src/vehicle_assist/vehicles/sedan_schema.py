@@ -417,18 +417,28 @@ class SedanBlowoutCompensation(Strict):
     # so its own ABS/HBA re-build cannot saw it back up (session k K7, RK1's latched hold; measured, NOT shipped: 2 new
     # never-worse violations on the 444 stuck rear points, tire_blowout_findings.md K7)
     substitute_yaw_limit_flag: Annotated[int, Field(ge=0, le=2)] = 1
+    # LIMITED on the substitute REAR (front blowout, the opposite front's inlet stuck, limit code 1) while the driver
+    # brakes: the blown side's rear held at no more than the substitute's pressure (the ESP's rear select-low, which the
+    # compensation's target bypasses) and released while the yaw error toward the blown side exceeds esp.yaw_dump_rate
+    # (not in a curve toward the blown side nor outside the phase-plane stable region); 0 = the code before
+    # (tire_blowout_findings.md L2, session l)
+    front_substitute_rear_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # a blowout refused AT its detection (beyond the stable region before the function acted): its blown wheel is left
     # to the driver's pressure and ABS (Q_NONE) - the car without the function - not released as in ENDED; a refusal
     # during the compensation keeps the release; 0 = the code before (released; tire_blowout_findings.md K6, session k)
     refused_blown_driver_flag: Annotated[int, Field(ge=0, le=1)] = 1
-    # (session l, L5) reject_heading_return: 3 = never release a front whose release turns the car further from the
-    # steered reference than it is (shipped); 2 = the same beyond yaw_deadband only; 1 = not armed when the detection's
-    # yaw error was already beyond abort_yaw_rate away from the named wheel; 0 = the code before (findings L5)
-    heading_return_own_yaw_flag: Annotated[int, Field(ge=0, le=3)] = 3
+    # (session l, L5; RL1) reject_heading_return: 4 = as 3, and the allowed release sized to the rate error to the
+    # steered reference, not to the rule's target (shipped, review RL1); 3 = never release a front whose release turns the
+    # car further from the steered reference than it is (L5); 2 = the same beyond yaw_deadband only; 1 = not armed when
+    # the detection's yaw error was already beyond abort_yaw_rate away from the named wheel; 5 = 4 only with such an
+    # own-yaw baseline, otherwise as 0 (RL1 candidate); 0 = the code before (findings L5, RL1)
+    heading_return_own_yaw_flag: Annotated[int, Field(ge=0, le=5)] = 4
     # the blown side's other wheel (other axle, same side) has its inlet diagnosed stuck closed: while the driver brakes
     # the blown wheel is not released (driver's pressure and ABS) and no counter-brake is added, limit code 6; 0 = the
     # code before (released, the whole side unbraked; tire_blowout_findings.md L1, session l, K1's r41 #360)
-    blown_side_fault_flag: Annotated[int, Field(ge=0, le=1)] = 0
+    # 2 (L6): the rear pair compared on the ECU's line-lag estimate; 3 (L6): 2 + only while the stuck front is unbraked
+    # (the pressure trapped at its diagnosis below esp.plausibility_pressure)
+    blown_side_fault_flag: Annotated[int, Field(ge=0, le=3)] = 0
     # (review RL2, candidate) blown_side_fault_flag's rule stands aside while the spin-front rule governs (limit code 5:
     # blown rear released, the compensating side's front braked); 0 = the code before (the rule acts under code 5 too)
     blown_side_spin_front_flag: Annotated[int, Field(ge=0, le=1)] = 0

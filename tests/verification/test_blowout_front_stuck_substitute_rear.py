@@ -1,0 +1,134 @@
+"""A FRONT blowout whose opposite front's inlet is stuck closed: LIMITED on the substitute REAR and the blown side's
+rear held at no more than the substitute (``blowout_compensation.front_substitute_rear_flag``, session 2026-11-24 l,
+task L2; tire_blowout_findings.md "L2 (session l)", status k item 1; K2's rule for a blown rear, mirrored).
+
+With the opposite front's inlet stuck the compensation brakes the rear on the other side of the car (``_substitute``:
+FL blown -> RR; limit code 1). Both fronts are then unbraked (the blown one released, the other stuck) and the car
+brakes on its rears alone. Without the function the ESP's rear select-low keeps both rears at one pressure; with it the
+substitute is the compensation's wheel and bypasses the select-low, and the blown side's rear took the driver's / HBA
+pump pressure above the substitute. K1's fault envelope, lead's set f_r3 (random 3 -n 64) #24: FL blown, FR stuck,
+braking (panic pedal at 1.57 s), straight, lane follower, 117 km/h, mu 0.668: RL 80 bar against the substitute RR's 65,
+yaw toward FL 0.29 rad/s, refused at 2.4 s (limit code 3) and spun: 19.585 m against the twin's 13.684 m.
+
+References, independent of the function's code: requirement tire_blowout.no_worse_than_no_compensation with the SAME
+fault in both cars (the twin: the car without compensation, paper 004 Fig. 4 curve 2); the ESP's rear select-low (the
+twin's rears carry one pressure: no rear-axle yaw moment). Flag 0 = the code before = the seeded defect.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import vehicle_assist as va
+from vehicle_assist.verification.envelope import load_envelope
+
+METRIC = "blowout_lateral_deviation_run_max_m"
+DEFECT = ("vehicle.blowout_compensation.front_substitute_rear_flag=0",)  # the code before
+LIMIT_OTHER_AXLE = 1  # blowout_limit_code: the opposite inlet stuck, the other axle's wheel brakes (issue #10 'Faults')
+# /tmp/lead/l/base/f_r3/falsify.json history #24 (tire_blowout_faults, random 3 -n 64 -b 64)
+P24 = {"speed": 116.9448308991426, "mu": 0.6678977319661067, "delay": 0.2199934626891463,
+       "wheel_speed_noise": 0.14086904803366992, "noise_seed": 2723.0, "brake_gain": 0.9937423289360476,
+       "accumulator": 56.41183888047423, "brake.start_s": 1.569214634733117, "brake.level_frac": 0.45503709798857306,
+       "brake.rate_per_s": 15.19880565202063, "braking": "brakes", "wheel": "fl", "driver": "follow",
+       "curve": "straight", "fault": "inlet_stuck_fr"}
+PAIR_MARGIN_PA = 3.0e5  # the rule's 1-bar dump margin plus one period of the pump's build (plant pressure, not the ECU's)
+
+
+def _run(env, point, baseline=False, sets=()):
+    sc = env.scenario(point, baseline=baseline)
+    return va.simulate(sc.with_sets(*sets) if sets else sc, requirements=False)
+
+
+@pytest.fixture(scope="module")
+def runs():
+    env = load_envelope("tire_blowout_faults")
+    return {"on": _run(env, P24), "defect": _run(env, P24, sets=DEFECT), "none": _run(env, P24, baseline=True)}
+
+
+def test_24_goes_limited_on_the_substitute_rear(runs):
+    """The case this file is about: LIMITED on the other axle (limit code 1) in both variants."""
+    for k in ("on", "defect"):
+        codes = np.asarray(runs[k].trace["blowout_limit_code"])
+        assert np.any(codes == LIMIT_OTHER_AXLE), k
+
+
+def test_24_front_stuck_never_worse_than_without_compensation(runs):
+    """Requirement no_worse_than_no_compensation with the same fault in both cars (rollback_floor_m 0: the function's run
+    max <= the twin's; measured 3.041 vs 13.684 m)."""
+    on, none = runs["on"].metrics[METRIC], runs["none"].metrics[METRIC]
+    assert on <= none, (on, none)
+
+
+def test_24_defect_is_worse_than_without_compensation(runs):
+    """Negative control: the code before (flag 0) fails the same check - 19.585 vs 13.684 m."""
+    assert runs["defect"].metrics[METRIC] > runs["none"].metrics[METRIC]
+
+
+def _rear_pair_excess(r):
+    """Largest plant pressure of the blown side's rear (RL) above the substitute (RR) over the LIMITED code-1 samples
+    while the pedal is applied: the rear axle's brake moment toward the blown side (the select-low keeps it <= 0)."""
+    code = np.asarray(r.trace["blowout_limit_code"])
+    pedal = np.asarray(r.trace["brake_pedal_frac"])
+    k = (code == LIMIT_OTHER_AXLE) & (pedal > 0.0)
+    assert k.any(), "no braking LIMITED sample"
+    return float(np.max(np.asarray(r.trace["wheel_pressure_rl_pa"])[k] - np.asarray(r.trace["wheel_pressure_rr_pa"])[k]))
+
+
+def test_24_blown_side_rear_not_above_the_substitute(runs):
+    """The mechanism: in LIMITED on the substitute RR while the driver brakes, RL never carries more than RR (+ the
+    rule's 1-bar margin and one pump period); at flag 0 RL was pumped 15 bar above RR (80 vs 65 bar)."""
+    on = _rear_pair_excess(runs["on"])
+    assert on <= PAIR_MARGIN_PA, on / 1e5
+    defect = _rear_pair_excess(runs["defect"])
+    assert defect > PAIR_MARGIN_PA, defect / 1e5
+
+
+# Review RL3 (session l): the four tests above pin only the select-low cap. Mutants of front_substitute_rear that all
+# passed them (measured, tire_blowout_findings.md RL3): the release removed (cap only), the release's yaw sign flipped,
+# the curve gate's sign flipped, the phase-plane gate removed. The points below (the lead's fault sets, same envelope,
+# fault from t = 0) check the same requirement (never worse than the twin with the same fault) where the release and its
+# gates decide it. Robustness = twin - function (m).
+# /tmp/lead/l/base/f_r3 #54: FL blown, FR stuck, straight, follower, 115 km/h, mu 0.496, pedal 1.19 s.
+# function 2.886, twin 11.098; flag 0 16.621; cap only / release sign flipped 14.623.
+P54 = {"speed": 114.77901331020196, "mu": 0.49620532691536845, "delay": 0.41217318486205834,
+       "wheel_speed_noise": 0.19436911490554884, "noise_seed": 5142.0, "brake_gain": 0.9516392694334314,
+       "accumulator": 119.35489890948396, "brake.start_s": 1.1914718996572977, "brake.level_frac": 0.2295889228305815,
+       "brake.rate_per_s": 14.248644218260972, "braking": "brakes", "wheel": "fl", "driver": "follow",
+       "curve": "straight", "fault": "inlet_stuck_fr"}
+# /tmp/lead/l/base/f_r41 #309: FR blown, FL stuck, LEFT curve r1000 (steered AWAY from the blown side: the curve gate
+# must let the release act), fixed steering, 103 km/h, mu 0.346. function 10.159, twin 10.930; flag 0 13.690; cap only /
+# release sign flipped / curve gate's sign flipped 14.255.
+P309 = {"speed": 102.89808906865272, "mu": 0.34636769643824644, "delay": 0.10000285925191393,
+        "wheel_speed_noise": 0.268374503562595, "noise_seed": 3463.0, "brake_gain": 1.1776525537535614,
+        "accumulator": 73.32034036713664, "brake.start_s": 0.8633359241460539, "brake.level_frac": 0.22241549299725005,
+        "brake.rate_per_s": 1.4101702693199711, "braking": "brakes", "wheel": "fr", "driver": "fixed",
+        "curve": "r1000", "fault": "inlet_stuck_fl"}
+# /tmp/lead/l/base/f_r41 #459: FR blown, FL stuck, r650, fixed, 110 km/h, mu 0.303 (L2's phase-plane gate point).
+# function 13.373, twin 13.456 (margin 0.083 m); without the phase-plane gate 14.223; flag 0 13.343 (passes: this one
+# guards the gate, it is not a flag-0 negative control).
+P459 = {"speed": 110.47107304299398, "mu": 0.3025390669435406, "delay": 0.33770351071126803,
+        "wheel_speed_noise": 0.1620515628980955, "noise_seed": 5861.0, "brake_gain": 0.8225244736553101,
+        "accumulator": 113.93599389892722, "brake.start_s": 0.6948995801046896, "brake.level_frac": 0.1624648777712299,
+        "brake.rate_per_s": 28.40120964129963, "braking": "brakes", "wheel": "fr", "driver": "fixed",
+        "curve": "r650", "fault": "inlet_stuck_fl"}
+
+
+@pytest.fixture(scope="module")
+def env():
+    return load_envelope("tire_blowout_faults")
+
+
+@pytest.mark.parametrize("point", [P54, P309, P459], ids=["f_r3_54", "f_r41_309", "f_r41_459"])
+def test_release_and_gates_never_worse_than_without_compensation(env, point):
+    """The yaw limitation (the blown side's rear released beyond esp.yaw_dump_rate toward the blown side) and its two
+    gates, through the requirement: the function's run max <= the twin's (same fault)."""
+    on = _run(env, point).metrics[METRIC]
+    none = _run(env, point, baseline=True).metrics[METRIC]
+    assert on <= none, (on, none)
+
+
+@pytest.mark.parametrize("point", [P54, P309], ids=["f_r3_54", "f_r41_309"])
+def test_release_points_defect_is_worse_than_without_compensation(env, point):
+    """Negative control: the code before (flag 0) fails the same check at these two points (16.621 > 11.098,
+    13.690 > 10.930)."""
+    assert _run(env, point, sets=DEFECT).metrics[METRIC] > _run(env, point, baseline=True).metrics[METRIC]
