@@ -1705,7 +1705,20 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
     if b < 2:
         return  # a blown REAR only (its side's front stuck): measured, see the docstring
     s = b - 2  # the blown side's front
-    if inlet_ok[s] > 0.5 or braking < 0.5:
+    # (review RL2) code 6 says "no counter-brake is added": once the rule stands aside (the pedal released, the paper's
+    # compensation back - measured at r41 #360 with the pedal released at 2.6 s: RL 32 bar, RR 1.4 bar, code still 6 to
+    # the end) the code it wrote is taken back; it only ever replaced LIMIT_NONE. No dynamics change (no rule reads 6)
+    stand_aside = inlet_ok[s] > 0.5 or braking < 0.5
+    # (blown_side_spin_front_flag, review RL2, candidate, 0 = the code before) nor while the spin-front rule governs
+    # (code 5: the blown rear released and the compensating side's front braked against a rotation TOWARD the blown
+    # side): the blown rear's brake is a moment
+    # toward the blown side and takes the rear axle's lateral force - the spin's direction (f_r41 #378: RR 10-44 bar
+    # for 101 samples of code 5 while the code said "rear wheel released")
+    if p.blowout_compensation_blown_side_spin_front_flag > 0.5 and st[S_LIMIT_CODE] == LIMIT_SPIN_FRONT:
+        stand_aside = True
+    if stand_aside:
+        if st[S_LIMIT_CODE] == LIMIT_BLOWN_SIDE:
+            st[S_LIMIT_CODE] = LIMIT_NONE
         return
     if p.blowout_compensation_blown_side_fault_flag > 2.5 and st[S_L6_TRAPPED + s] >= p.esp_plausibility_pressure_pa:
         return  # (value 3) the stuck front holds a brake: the side is not unbraked, the paper's release stands

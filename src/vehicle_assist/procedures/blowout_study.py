@@ -35,6 +35,15 @@ BLOWOUT_PANELS = [
 ]
 
 
+
+def limit_code_legend() -> str:
+    """Every ``blowout_limit_code`` with its reason, from the function's own table (LIMIT_REASONS): the report's
+    "says why" (issue #10 'Faults') cannot miss a code added later (review RL2: code 6, blown_side_fault_flag, was
+    missing from the hand-written list)."""
+    from vehicle_assist.functions.blowout_compensation import LIMIT_REASONS
+
+    return "; ".join(f"{k} {why}" for k, why in enumerate(LIMIT_REASONS))
+
 def blowout_png(trace, path, title) -> Path:
     return _render(trace, [p for p in BLOWOUT_PANELS if p.present(trace)], path, title)
 
@@ -327,8 +336,7 @@ def falsify_extra(out_dir: Path):
                 code = simulate(res.envelope.scenario(cex.point), requirements=False).metrics["blowout_limit_code"]
                 why += ("; the function's run and its twin carry the same fault (the point's fault choice, "
                         f"{cex.point['fault']}, blown {cex.point['wheel']}); highest limit code of the function's run: {code:g} "
-                        "(0 none, 1 opposite inlet stuck, other axle used, 2 opposite inlet and its substitute both stuck, "
-                        "3/4 refused, 5 spin front; the highest over the run, so a later refusal hides an earlier 1)")
+                        f"({limit_code_legend()}; the highest over the run, so a later code hides an earlier one)")
             why += lane
             value = cex.robustness
         else:

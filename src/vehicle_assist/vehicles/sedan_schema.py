@@ -439,6 +439,9 @@ class SedanBlowoutCompensation(Strict):
     # 2 (L6): the rear pair compared on the ECU's line-lag estimate; 3 (L6): 2 + only while the stuck front is unbraked
     # (the pressure trapped at its diagnosis below esp.plausibility_pressure)
     blown_side_fault_flag: Annotated[int, Field(ge=0, le=3)] = 0
+    # (review RL2, candidate) blown_side_fault_flag's rule stands aside while the spin-front rule governs (limit code 5:
+    # blown rear released, the compensating side's front braked); 0 = the code before (the rule acts under code 5 too)
+    blown_side_spin_front_flag: Annotated[int, Field(ge=0, le=1)] = 0
 
     @model_validator(mode="after")
     def _order(self):

@@ -188,8 +188,8 @@ class EnvelopeModel(Strict):
         """A range on an appended event's field (``append_events[I].FIELD``): the path's form, a ``when`` naming the
         options that append the event, and in each of them an event at index I that gives FIELD."""
         for target in r.targets:
-            if not (target.startswith("append_events") or target.startswith("events[")):
-                continue
+            if not ("append_events" in target or "events[" in target):
+                continue  # (a misspelt or padded event path, " append_events[0].at_s", gets the form's message below)
             where = f"ranges.{name}: path {target!r}"
             spot = event_target(target)
             if spot is None:
@@ -423,6 +423,9 @@ class Envelope:
         model = self.model.model_copy(update={"sets": list(self.model.sets) + list(sets)})
         env = Envelope(model, self.path, self.narrowed)
         env.base_scenario  # noqa: B018  (a bad override is reported now)
+        # (review RL2, L3's open item 4) ... and one that makes a dimension's end invalid too (run.duration_s = 3 with
+        # a fault time up to 4 s: the event after the run's end), at load, not at the first such point mid-search
+        env.validate_points(f"--set {' '.join(sets)}")
         return env
 
     # -- points ----------------------------------------------------------------------------------
@@ -566,12 +569,21 @@ class Envelope:
             parts.append(f"{d.name}={v}" if d.kind == "discrete" else f"{d.name}={v:.4g}")
         return ", ".join(parts)
 
-    def validate_points(self) -> None:
+    def validate_points(self, cause: str = "") -> None:
         """Build the scenario at the centre and at both ends of every dimension (and each option): any
         override the scenario schema rejects is reported as an envelope error naming the dimension. A conditional
         range (``when``) is checked at a point where it is written (its choice at the first option it names):
-        elsewhere its value is not used, so a bound outside the scenario schema would only fail mid-search."""
+        elsewhere its value is not used, so a bound outside the scenario schema would only fail mid-search.
+        The centre is checked first (review RL2: a bad centre was reported as the first dimension's end, "speed = 40").
+        ``cause`` names what made the points (``--set ...``) in the message."""
         centre = self.center()
+        pre = f"{self.where}: " + (f"{cause}: " if cause else "")
+        for baseline in (False, True):
+            try:
+                self.scenario(centre, baseline)
+            except InputError as exc:
+                raise InputError(f"{pre}{'baseline at ' if baseline else ''}the centre point "
+                                 f"[{self.point_name(centre)}]: {exc}") from None
         for d in self.dims:
             r = self.model.ranges.get(d.name)
             for value in (d.options if d.kind == "discrete" else (d.lo, d.hi)):
@@ -584,7 +596,7 @@ class Envelope:
                     except InputError as exc:
                         what = "baseline" if baseline else (f"choices.{d.name}.options.{value}" if d.kind == "discrete"
                                                             else f"{d.name} = {value:g}")
-                        raise InputError(f"{self.where}: {what}: {exc}") from None
+                        raise InputError(f"{pre}{what}: {exc}") from None
 
     def table_rows(self) -> list[dict]:
         """One row per dimension: name, kind, range or options, source (for docs and reports)."""
