@@ -438,7 +438,7 @@ class SedanBlowoutCompensation(Strict):
     # code before (released, the whole side unbraked; tire_blowout_findings.md L1, session l, K1's r41 #360)
     # 2 (L6): the rear pair compared on the ECU's line-lag estimate; 3 (L6): 2 + only while the stuck front is unbraked
     # (the pressure trapped at its diagnosis below esp.plausibility_pressure)
-    blown_side_fault_flag: Annotated[int, Field(ge=0, le=3)] = 0
+    blown_side_fault_flag: Annotated[int, Field(ge=0, le=4)] = 0
 
     @model_validator(mode="after")
     def _order(self):
