@@ -1701,7 +1701,15 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
     it (S_L6_TRAPPED, the ECU's line estimate when its inlet was first diagnosed stuck) below esp.plausibility_pressure
     (the ESP's own 'unbraked' threshold). A front stuck while the driver brakes keeps the brake it had (L3's
     fault_time: t_r7 #219, FR stuck at 1.36 s holding 52.8 bar): the blown side is braked, the paper's release stands
-    (value 2 there: 2.213 m vs the twin's 2.084; value 3 1.223 m as value 0)."""
+    (value 2 there: 2.213 m vs the twin's 2.084; value 3 1.223 m as value 0).
+    Value 4 (session l RL4, tire_blowout_findings.md RL4): value 3 for a detection both sources agree on (S_SOURCES =
+    wheel speeds + TPMS); a single-source detection keeps the paper's release. With the pedal before the detection the
+    detection is TPMS-only: its release is the confirmation probe (``tpms_confirm_flag``: the freed flat spins up) and its
+    yaw is judged net of that release (``yaw_net_flag``). With the blown side's front stuck the pedal itself yaws the car
+    away from the blown side, so such a detection was rejected (yaw_implausible) 5 ms after it; value 3 had then only
+    suppressed the 5 ms release and its re-apply and reported code 6 through the REJECTED mode: f_r41 #134 +0.010 ->
+    -0.021, t_r41 #470 +0.003 -> -0.020 m (L6's two new violations; +-2 % speed around them: worse than 0 in 16/21 and
+    21/21 points)."""
     if b < 2:
         return  # a blown REAR only (its side's front stuck): measured, see the docstring
     s = b - 2  # the blown side's front
@@ -1722,6 +1730,8 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
         return
     if p.blowout_compensation_blown_side_fault_flag > 2.5 and st[S_L6_TRAPPED + s] >= p.esp_plausibility_pressure_pa:
         return  # (value 3) the stuck front holds a brake: the side is not unbraked, the paper's release stands
+    if p.blowout_compensation_blown_side_fault_flag > 3.5 and st[S_SOURCES] < SRC_WS + SRC_TPMS - 0.5:
+        return  # (value 4, RL4) a single-source detection: the paper's release is its confirmation probe (see above)
     requests[b] = Q_NONE
     if tg >= 0 and (mode == BUILD or mode == HOLD or mode == LIMITED):
         ceiling = p_est[b] if tg >= 2 else p_mc

@@ -437,8 +437,9 @@ class SedanBlowoutCompensation(Strict):
     # the blown wheel is not released (driver's pressure and ABS) and no counter-brake is added, limit code 6; 0 = the
     # code before (released, the whole side unbraked; tire_blowout_findings.md L1, session l, K1's r41 #360)
     # 2 (L6): the rear pair compared on the ECU's line-lag estimate; 3 (L6): 2 + only while the stuck front is unbraked
-    # (the pressure trapped at its diagnosis below esp.plausibility_pressure)
-    blown_side_fault_flag: Annotated[int, Field(ge=0, le=3)] = 0
+    # (the pressure trapped at its diagnosis below esp.plausibility_pressure); 4 (RL4, shipped): 3 for a detection both
+    # sources agree on only (a single-source detection keeps the paper's release; findings RL4)
+    blown_side_fault_flag: Annotated[int, Field(ge=0, le=4)] = 4
     # (review RL2, candidate) blown_side_fault_flag's rule stands aside while the spin-front rule governs (limit code 5:
     # blown rear released, the compensating side's front braked); 0 = the code before (the rule acts under code 5 too)
     blown_side_spin_front_flag: Annotated[int, Field(ge=0, le=1)] = 0
