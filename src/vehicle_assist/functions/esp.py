@@ -713,6 +713,24 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             wheels[g, A_REQUEST] = R_DUMP
         elif toward > p.esp_yaw_hold_rate_radps:
             wheels[g, A_REQUEST] = R_GMA_HOLD
+        elif (p.esp_gma_pressure_order_flag > 0.5 and blown >= 2 and g == 3 - blown
+              and wheels[g, A_P_EST] < wheels[1 - g, A_P_EST] - RAMP_SETTLED_PA):
+            # (gma_pressure_order_flag, 0 = the code before) the GMA delays the presumed HIGH-mu front relative to the
+            # one in ABS: it limits the DIFFERENCE of the fronts' pressures (see gma_follow_flag). Once the ABS front is
+            # re-built above the delayed wheel, holding that wheel makes the difference point the other way - a yaw
+            # moment toward the ABS side the GMA was meant to limit. Below the other front (and without yaw toward its
+            # own side) the delayed wheel re-builds in pulses from the master like any ABS re-build (L7: rb5 #72, a
+            # noise dump of FR at the pedal onset held FL at 20-23 bar for 1 s against FR re-built to 46 bar).
+            # Only with a REAR known blown or TPMS-named (blown >= 2; the ESP without the function never has one, so
+            # the no-function car is the code before): both fronts are intact, so their pressure order is their brake
+            # force order. Not with a front blown or named (its flat tire's force is not its pressure's) nor without
+            # a named wheel: applied there too, rb5 #33's twin (FL flat, unknown) rebuilt the flat FL the GMA held
+            # at 1-8 bar and went 0.843 -> 1.665 m. Only for the front OPPOSITE the blown rear (g == 3 - blown): paper
+            # 004's counter-moment brakes the side away from the blown wheel (eq. 28), so a GMA hold of that front
+            # below the blown side's front takes counter-moment away; a hold of the blown side's front below the
+            # other adds counter-moment and stays as before (applied there too, rb13 #76 - RR, 115 km/h, fixed
+            # steering - lost FR's hold at 10 bar against FL's 20-30: +2.931 -> -0.129 m, a new violation).
+            wheels[g, A_REQUEST] = R_BUILD
         elif elapsed < p.esp_gma_duration_s and int(wheels[g, A_MODE]) == abs_fn.OFF:
             phase = elapsed - p.esp_gma_cycle_s * math.floor(elapsed / p.esp_gma_cycle_s)
             wheels[g, A_REQUEST] = R_GMA_PULSE if phase < p.esp_gma_pulse_s - 1e-9 else R_GMA_HOLD
