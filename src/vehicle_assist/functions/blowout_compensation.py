@@ -1607,6 +1607,9 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, requests, p, dt, v_ref)
     if p.blowout_compensation_braking_rule_flag > 0.5:
         braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref, a_y_meas, v_ref)
+    if (p.blowout_compensation_own_stuck_front_flag > 0.5 and 0 <= b < 2 and tg == OPPOSITE[b]
+            and inlet_ok[b] < 0.5 and braking > 0.5 and (mode == BUILD or mode == HOLD)):
+        own_stuck_front(st, b, tg, yaw_rate, p_est, p_mc, requests, p)
     if (p.blowout_compensation_substitute_yaw_limit_flag > 0.5 and mode == LIMITED
             and st[S_LIMIT_CODE] == LIMIT_OTHER_AXLE and b >= 2 and 0 <= tg < 2):
         substitute_yaw_limit(b, tg, yaw_rate, p_est, requests, p, st)
@@ -1781,6 +1784,36 @@ def front_substitute_rear(b, tg, braking, yaw_err, r_ref, p_est, requests, p, st
         requests[w] = Q_RELEASE
     else:
         st[S_REAR_CAP] = max(p_est[tg], 0.0)  # select-low on pressure: at most the substitute's level
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def own_stuck_front(st, b, tg, yaw_err, p_est, p_mc, requests, p):
+    """``own_stuck_front_flag`` (0 = the code before; tire_blowout_findings.md L8, session l): a blown FRONT whose OWN
+    inlet valve is diagnosed stuck closed, compensated on the other front (BUILD/HOLD) while the driver brakes. The
+    blown wheel then carries no brake in the car WITHOUT the function either (the driver's pressure never reaches it):
+    the paper's release (P7) has nothing to remove, and the braking rule's premises - the compensating front takes its
+    own driver demand on top of the drag balance because "the blown wheel's own demand is lost" (braking_share_frac),
+    and the balance is the floor whatever the yaw - rest on a release the fault has already made in both cars. The
+    driver's pressure on the other front is then already a counter-brake no wheel matches (b_f*F_opp(p_mc) against
+    the flat's drag b_f*D, eqs. 22-25).
+
+    * Yaw floor: while the yaw error (steered reference) points AWAY from the blown side beyond the closed-loop dead
+      band (yaw_deadband, the braking rule's own gate), the compensating front goes down to the driver's pressure (the
+      car without the function: not below it - a braking driver's wheel is the driver's and ABS's), not to the
+      balance: S_P_BRAKE = p_mc, released (Q_RELEASE) while more than 1 bar above it. Within the dead band or toward
+      the blown side the braking rule's target stands.
+    * Rear pair (value 1; value 2 = the yaw floor alone): select-low on pressure when the braking rule sets no rear cap (no measured friction):
+      the higher rear held at no more than 1 bar above the lower (S_REAR_CAP; the ESP's rear select-low, functions/
+      esp.py, as HBA's pump build does it before a detection, hba_rear_select_low_flag) - the X-split pump lifted the
+      blown front's circuit's rear 17-24 bar above the other (f_r41 #374, #29)."""
+    if st[S_REAR_CAP] < 0.0 and p.blowout_compensation_own_stuck_front_flag < 1.5:
+        st[S_REAR_CAP] = max(min(p_est[2], p_est[3]), 0.0) + 1.0e5
+    floor = max(p_mc, 0.0)
+    if toward_blown_side(b, yaw_err) < -p.blowout_compensation_yaw_deadband_radps:
+        if st[S_P_BRAKE] > floor:
+            st[S_P_BRAKE] = floor
+        if p_est[tg] > floor + 1.0e5:
+            requests[tg] = Q_RELEASE
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")

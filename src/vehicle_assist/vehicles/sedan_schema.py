@@ -428,6 +428,11 @@ class SedanBlowoutCompensation(Strict):
     # (not in a curve toward the blown side nor outside the phase-plane stable region); 0 = the code before
     # (tire_blowout_findings.md L2, session l)
     front_substitute_rear_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # (session l, L8) a blown FRONT whose OWN inlet is diagnosed stuck closed, compensated on the other front while the
+    # driver brakes: 1 = that front down to the driver's pressure (not the balance) while the yaw error points away
+    # from the blown side beyond yaw_deadband, and the rear pair select-low on pressure when the braking rule sets no
+    # cap (shipped); 2 = the yaw floor alone; 0 = the code before (tire_blowout_findings.md L8)
+    own_stuck_front_flag: Annotated[int, Field(ge=0, le=2)] = 1
     # a blowout refused AT its detection (beyond the stable region before the function acted): its blown wheel is left
     # to the driver's pressure and ABS (Q_NONE) - the car without the function - not released as in ENDED; a refusal
     # during the compensation keeps the release; 0 = the code before (released; tire_blowout_findings.md K6, session k)
