@@ -99,3 +99,23 @@ def test_29_rule_needs_the_own_inlet_fault(env):
 def test_326_own_inlet_stuck_curve_never_worse(env):
     on, none = _run(env, P326, sets=ON), _run(env, P326, baseline=True)
     assert on.metrics[METRIC] <= none.metrics[METRIC], (on.metrics[METRIC], none.metrics[METRIC])
+
+
+def _front_excess_pa(r):
+    """Mean plant FR - master pressure over the braking compensation samples (mode BUILD/HOLD, pedal applied)."""
+    mode = np.asarray(r.trace["blowout_mode_index"])
+    k = ((mode == 1) | (mode == 2)) & (np.asarray(r.trace["brake_pedal_frac"]) > 0.0)
+    assert k.any(), "no braking compensation sample"
+    d = np.asarray(r.trace["wheel_pressure_fr_pa"]) - np.asarray(r.trace["master_pressure_pa"])
+    return float(np.mean(d[k]))
+
+
+def test_326_yaw_floor_lowers_the_compensating_front(env):
+    """(review RL5) Rule (a) alone: at #326 the rear pair is already at one pressure (rule (b) has nothing to do; #29 is
+    the (b) point, where (a) never acts: flag 2 = flag 0 there, 1.281 m), so without this test neither dropping (a) nor
+    flipping its yaw sign failed any test of this file (RL5 mutants: #29 0.597 m, #326 1.595 m = flag 0, the strict xfail
+    still failing). Reference: the twin's FR is the driver's pressure (the car without the function); (a) brings the
+    compensating front back to it while the car yaws away from the blown side, so its mean excess over the driver's
+    pressure must be lower than the code before's. Measured: 11.6 bar (flag 1) vs 20.3 bar (flag 0, and both mutants)."""
+    on, defect = _run(env, P326, sets=ON), _run(env, P326, sets=DEFECT)
+    assert _front_excess_pa(on) < _front_excess_pa(defect) - 1.0e5, (_front_excess_pa(on), _front_excess_pa(defect))
