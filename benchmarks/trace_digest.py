@@ -7,11 +7,11 @@ identical: generate the digests from the code before the change, then compare af
     python benchmarks/trace_digest.py --compare benchmarks/results/digests_before.json # after
 
 ``--layouts truck_amt,ev_ehb`` restricts the scenarios. ``benchmarks/digests/main_<commit>.json`` holds the digests
-of all shipped scenarios at that commit (now bacf1e4, 82 scenarios, all regenerated there: against the former 315d2d8
-snapshot one trace changed on purpose in session j - blowout_false_tpms_braking_60kph, the heading return after a rejected
-false alarm (reject_heading_return_flag), see docs/functions/tire_blowout.md 'Status at the end of session 2026-11-24 j' -
-and the metrics of the 33 sedan_esp scenarios gained the signed per-side lane overshoot of requirement
-no_lane_departure_caused; the earlier snapshots were replaced the same way after intended model changes, see docs/functions/tire_blowout_sessions.md). Work that changes
+of all shipped scenarios at that commit (now b12920f, 82 scenarios, all regenerated there: against the former bacf1e4
+snapshot one trace changed on purpose in session l - blowout_false_tpms_braking_60kph, the false-alarm heading return
+now never releases a front that turns the car away from the steered reference (heading_return_own_yaw_flag, findings L5,
+RL1): deviation 0.0431 -> 0.0434 m, stop 27.403 -> 27.392 m; the other 81 bitwise. The earlier snapshots were replaced
+the same way after intended model changes, see docs/functions/tire_blowout_sessions.md). Work that changes
 traces on purpose (a model fix) should compare against the commit just before it, and whoever lands such a change
 refreshes this file in the same landing (one snapshot of one commit, never a mix of entries from several).
 """
