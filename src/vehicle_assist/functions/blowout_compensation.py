@@ -419,6 +419,8 @@ HEALTHY_PERSIST_S = 0.02 + WS_WINDOW_N * 0.005  # assumed: 4 ESP periods (as CAP
 #   (WS_WINDOW_N ESP periods of 5 ms) of samples taken with the wheel free of the brake: a flat rear wheel under a light
 #   pedal rolls at ~v_ref while still braked (its own slip ~1/3) and starts to spin up only once its pressure is down
 #   (CMA-ES seed 2026 #2/#11: RL/RR blowouts rejected 15-20 ms after the detection while the pressure still fell)
+PRESSURE_MARGIN_PA = 1.0e5  # the 1-bar margin of the rules' pressure comparisons (release above a level + 1 bar, settled
+# within 1 bar): the settling tolerance of spec 3 TERMINATING, criterion 7 (as functions/esp.py RAMP_SETTLED_PA)
 RELEASED_MARGIN_PA = 1.0e5  # assumed: the released wheel counts as free of the brake below the unit's low-pressure
 #   accumulator level + 1 bar (ECU pressure estimate; ~1 bar is < 4 % of a light pedal's rear pressure)
 
@@ -1514,7 +1516,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             # (ramp_driver_floor_flag) the ramp withdraws the function's own pressure, never the driver's: not below the
             # master pressure (the front wheel's source; released at once, Q_NONE, it goes to the driver's pressure)
             allowed = max(allowed, p_mc)
-        requests[sub] = Q_RELEASE if p_est[sub] > allowed + 1.0e5 else Q_HOLD
+        requests[sub] = Q_RELEASE if p_est[sub] > allowed + PRESSURE_MARGIN_PA else Q_HOLD
     if tg >= 0 and inlet_ok[tg] > 0.5:
         if mode == BUILD:
             requests[tg] = Q_BUILD
@@ -1586,7 +1588,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
                     st[S_P_REQ] = max(min(st[S_P_REQ], p_cap), st[S_P_START])
                     st[S_SLIP_HIGH_S] = -WS_WINDOW_N * dt
                 if st[S_SLIP_LIMITED] > 0.5:
-                    if p_est[tg] > max(st[S_P_REQ], p_floor) + 1.0e5:
+                    if p_est[tg] > max(st[S_P_REQ], p_floor) + PRESSURE_MARGIN_PA:
                         requests[tg] = Q_RELEASE
                     elif mode == BUILD:
                         requests[tg] = Q_HOLD  # once limited, the build does not start again
@@ -1597,7 +1599,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             if over:
                 st[S_SLIP_LIMITED] = 1.0
                 st[S_P_REQ] = max(min(st[S_P_REQ], p_est[tg]), st[S_P_START])
-                requests[tg] = Q_RELEASE if p_est[tg] > p_floor + 1.0e5 else Q_HOLD
+                requests[tg] = Q_RELEASE if p_est[tg] > p_floor + PRESSURE_MARGIN_PA else Q_HOLD
             elif mode == BUILD and st[S_SLIP_LIMITED] > 0.5:
                 requests[tg] = Q_HOLD  # once limited, the build does not start again: hold at the lowered target
         if p.blowout_compensation_tire_capacity_flag > 0.5 and st[S_LIMIT_CODE] != LIMIT_SPIN_FRONT:
@@ -1662,8 +1664,8 @@ def substitute_yaw_limit(b, tg, yaw_err, p_est, requests, p, st):
         if p.blowout_compensation_substitute_yaw_limit_flag > 1.5:
             if st[S_SUB_HOLD] < 0.0:
                 st[S_SUB_HOLD] = st[S_P_LINE + w]
-            latched = st[S_P_LINE + w] > st[S_SUB_HOLD] + 1.0e5
-        if latched or p_est[w] > p_est[tg] + 1.0e5:
+            latched = st[S_P_LINE + w] > st[S_SUB_HOLD] + PRESSURE_MARGIN_PA
+        if latched or p_est[w] > p_est[tg] + PRESSURE_MARGIN_PA:
             requests[w] = Q_RELEASE
     elif p.blowout_compensation_substitute_yaw_limit_flag > 1.5:
         st[S_SUB_HOLD] = -1.0
@@ -1744,7 +1746,7 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
             p_tg = st[S_P_LINE + tg]
             if tg >= 2:
                 ceiling = st[S_P_LINE + b]
-        requests[tg] = Q_RELEASE if p_tg > ceiling + 1.0e5 else Q_NONE
+        requests[tg] = Q_RELEASE if p_tg > ceiling + PRESSURE_MARGIN_PA else Q_NONE
         st[S_P_BRAKE] = -1.0
         st[S_REAR_CAP] = -1.0
     if st[S_LIMIT_CODE] == LIMIT_NONE:
@@ -1807,12 +1809,12 @@ def own_stuck_front(st, b, tg, yaw_err, p_est, p_mc, requests, p):
       esp.py, as HBA's pump build does it before a detection, hba_rear_select_low_flag) - the X-split pump lifted the
       blown front's circuit's rear 17-24 bar above the other (f_r41 #374, #29)."""
     if st[S_REAR_CAP] < 0.0 and p.blowout_compensation_own_stuck_front_flag < 1.5:
-        st[S_REAR_CAP] = max(min(p_est[2], p_est[3]), 0.0) + 1.0e5
+        st[S_REAR_CAP] = max(min(p_est[2], p_est[3]), 0.0) + PRESSURE_MARGIN_PA
     floor = max(p_mc, 0.0)
     if toward_blown_side(b, yaw_err) < -p.blowout_compensation_yaw_deadband_radps:
         if st[S_P_BRAKE] > floor:
             st[S_P_BRAKE] = floor
-        if p_est[tg] > floor + 1.0e5:
+        if p_est[tg] > floor + PRESSURE_MARGIN_PA:
             requests[tg] = Q_RELEASE
 
 
@@ -2111,7 +2113,7 @@ def understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, reque
             st[S_US_PLAN] = st[S_P_REQ]
         st[S_US_LIMITED] = 1.0
         st[S_P_REQ] = max(min(st[S_P_REQ], p_est[tg]), st[S_P_START])
-        requests[tg] = Q_RELEASE if p_est[tg] > st[S_P_START] + 1.0e5 else Q_HOLD
+        requests[tg] = Q_RELEASE if p_est[tg] > st[S_P_START] + PRESSURE_MARGIN_PA else Q_HOLD
     elif st[S_US_LIMITED] > 0.5 and err_in > db:
         # turning toward the blown side beyond the reference: the balance before the lowering back (re-built by the ESP)
         understeer_restore(st, p, dt)
@@ -2303,12 +2305,12 @@ def braking_lock_floor(st, tg, p_bal, p_est, p):
     p_now = st[S_P_LINE + tg] if p.esp_lock_level_line_flag > 0.5 else p_est[tg]
     p_prev = st[S_LOCK_PREV]
     keep = p.blowout_compensation_braking_lock_keep_flag > 0.5
-    held = st[S_LOCK_P] > 0.0 and p_now <= p.blowout_compensation_braking_lock_floor_frac * st[S_LOCK_P] + 1.0e5
+    held = st[S_LOCK_P] > 0.0 and p_now <= p.blowout_compensation_braking_lock_floor_frac * st[S_LOCK_P] + PRESSURE_MARGIN_PA
     if st[S_ABS_ACTIVE + tg] < 0.5 and not (keep and held):
         st[S_LOCK_P] = -1.0
         st[S_LOCK_FALL] = 0.0
-    elif (st[S_ABS_ACTIVE + tg] > 0.5 and p_prev >= 0.0 and p_now < p_prev - 1.0e5 and st[S_LOCK_FALL] < 0.5
-          and p_prev <= st[S_P_REQ] + 1.0e5):
+    elif (st[S_ABS_ACTIVE + tg] > 0.5 and p_prev >= 0.0 and p_now < p_prev - PRESSURE_MARGIN_PA and st[S_LOCK_FALL] < 0.5
+          and p_prev <= st[S_P_REQ] + PRESSURE_MARGIN_PA):
         st[S_LOCK_P] = p_prev  # a dump starts: the lock level ABS found
         st[S_LOCK_FALL] = 1.0
     elif p_now >= p_prev:
@@ -2352,7 +2354,7 @@ def rear_braking_rule(st, b, tg, mode, braking, p_mc, p_est, p):
     p_drv = proportioned_pa(max(p_mc, 0.0), p.master_cylinder_proportioning_knee_pa,
                             p.master_cylinder_proportioning_slope_frac)
     st[S_RB_HIGH] = max(st[S_RB_HIGH], min(p_est[tg], p_drv))
-    if p_est[tg] < st[S_RB_HIGH] - 1.0e5:
+    if p_est[tg] < st[S_RB_HIGH] - PRESSURE_MARGIN_PA:
         st[S_P_BRAKE] = max(st[S_P_REQ], min(p_drv, st[S_RB_HIGH]))
 
 
@@ -2506,7 +2508,7 @@ def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, 
     # CAP_PERSIST_S, not a saturation phase on a good road followed by one transient sample of low mu_est (closed loop
     # LF 60 after an ABS dump/re-build: mu_est 0.88 -> 0.79 for one sample latched the target 44.5 -> 31.4 bar, E)
     low_mu = mu_hi < p.blowout_compensation_mu_estimate_frac or not filt
-    if braking < 0.5 and p_est[tg] > st[S_P_START] + 1.0e5 and s_tg > CAP_MIN_SLIP and q_hi < CAP_FORCE_RATIO and low_mu:
+    if braking < 0.5 and p_est[tg] > st[S_P_START] + PRESSURE_MARGIN_PA and s_tg > CAP_MIN_SLIP and q_hi < CAP_FORCE_RATIO and low_mu:
         st[S_LOW_S] += dt
     else:
         st[S_LOW_S] = min(st[S_LOW_S], 0.0) if filt else 0.0
@@ -2539,7 +2541,7 @@ def tire_capacity_rule(st, tg, vw, v_ref, a_y_ref, braking, p_est, requests, p, 
         st[S_P_REQ] = max(min(st[S_P_REQ], st[S_F_CAP] * p.body_wheel_radius_m / gain), st[S_P_START])
 
     if st[S_CAP_LATCHED] > 0.5:
-        if p_est[tg] > st[S_P_REQ] + 1.0e5 and braking < 0.5:
+        if p_est[tg] > st[S_P_REQ] + PRESSURE_MARGIN_PA and braking < 0.5:
             requests[tg] = Q_RELEASE
         elif requests[tg] != Q_RELEASE:
             requests[tg] = Q_HOLD
@@ -2591,7 +2593,7 @@ def measured_mu_raise(st, tg, v_ref, braking, p_est, gain, p, dt, a_x=0.0, a_y=0
     v_s = slip_reference_mps(st, int(st[S_BLOWN]), tg, v_ref, braking)
     p_m, v_m = wheel_pressure_mean(st, tg), wheel_speed_mean(st, tg)
     wdot = wheel_accel_mps2(st, tg, dt) / p.body_wheel_radius_m
-    settled = abs(p_m - p_est[tg]) < 1.0e5
+    settled = abs(p_m - p_est[tg]) < PRESSURE_MARGIN_PA
     if bound:
         # the window's mean speed and pressure are WS_WINDOW_N/2 periods old: the slip is taken against the reference
         # of that time (the decelerating car was faster then; v_ref now under-read the slip by |a_x|*17.5 ms/v -

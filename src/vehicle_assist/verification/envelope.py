@@ -95,6 +95,11 @@ class RangeSpec(Strict):
     integer: bool = False
     when: dict[str, list[Annotated[str, Field(min_length=1)]]] | None = Field(default=None, min_length=1, max_length=1)
 
+    def active_at(self, point: dict) -> bool:
+        """Is this range written at ``point``? Always without ``when``; with it, only where the named choice takes
+        one of the listed options (elsewhere the value does nothing: the dimension is inactive there)."""
+        return self.when is None or all(point.get(c) in opts for c, opts in self.when.items())
+
     @model_validator(mode="after")
     def _order(self):
         if self.when is not None and not all(self.when.values()):
@@ -120,11 +125,10 @@ class ChoiceSpec(Strict):
     @model_validator(mode="after")
     def _events(self):
         for name, sets in self.options.items():
-            for key in ("append_events",):  # (a replacing "events" is validated by the scenario schema)
-                ev = sets.get(key)
-                if ev is not None and not (isinstance(ev, list) and ev and all(isinstance(e, dict) for e in ev)):
-                    raise ValueError(f"options.{name}.{key}: give a list of event tables, e.g. "
-                                     "[{ at_s = 0.0, action = \"actuator_fault\", actuator = \"inlet_valve_rl\", fault = \"stuck_energized\" }]")
+            ev = sets.get("append_events")  # (a replacing "events" is validated by the scenario schema)
+            if ev is not None and not (isinstance(ev, list) and ev and all(isinstance(e, dict) for e in ev)):
+                raise ValueError(f"options.{name}.append_events: give a list of event tables, e.g. "
+                                 "[{ at_s = 0.0, action = \"actuator_fault\", actuator = \"inlet_valve_rl\", fault = \"stuck_energized\" }]")
         return self
 
 
@@ -464,7 +468,7 @@ class Envelope:
         accumulator at an inlet-fault point, the fault time at a low-accumulator point), in dimension order."""
         out = []
         for name, r in self.model.ranges.items():
-            if r.when is not None and not all(point.get(c) in opts for c, opts in r.when.items()):
+            if not r.active_at(point):
                 out.append(name)
         return out
 
@@ -494,7 +498,7 @@ class Envelope:
         event_fields: dict[str, list[tuple[int, str, Any]]] = {}  # choice -> (index, field, value) of its appended events
         params = {p: {k: v for k, v in prof.params.items() if not isinstance(v, Interval)} for p, prof in m.profiles.items()}
         for name, r in m.ranges.items():
-            if r.when is not None and not all(point.get(c) in opts for c, opts in r.when.items()):
+            if not r.active_at(point):
                 continue  # a conditional range (a fault's severity) only where its choice takes those options
             if name in point:
                 value = int(round(float(point[name]))) if r.integer else point[name]  # a whole number (run.seed)
