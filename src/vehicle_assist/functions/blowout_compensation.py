@@ -369,7 +369,12 @@ S_SUB_HOLD = S_REFUSED_DET + 1
 # (blown_side_fault_flag 3, session l L6) per wheel fl fr rl rr: the ECU's line-pressure estimate when its inlet was
 # first diagnosed stuck closed - the pressure trapped in that wheel [Pa]; -1 = not diagnosed (yet)
 S_L6_TRAPPED = S_SUB_HOLD + 1
-STATE_SIZE = S_L6_TRAPPED + 4
+# (front_substitute_rear_flag 2, session m M7) the yaw error toward the blown side [rad/s] (net of the steered reference)
+# when the substitute rear's LIMITED code 1 first met the driver's pedal, and 1 = latched (0 = not yet / reset outside
+# that LIMITED episode)
+S_M7_ERR0 = S_L6_TRAPPED + 4
+S_M7_SET = S_M7_ERR0 + 1
+STATE_SIZE = S_M7_SET + 1
 # (heading_return_line_flag, session k K3) the fraction of the other front's pressure the heading return may take off the
 # released front: with it the front axle keeps (2 - 0.5)/2 = 0.75 of its brake force, UN R13-H Annex 6 para 5.2's
 # minimum adhesion utilisation epsilon >= 0.75 of an anti-lock car transposed onto the axle the rule acts on (assumed
@@ -1620,6 +1625,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     if (p.blowout_compensation_front_substitute_rear_flag > 0.5 and mode == LIMITED
             and st[S_LIMIT_CODE] == LIMIT_OTHER_AXLE and 0 <= b < 2 and tg >= 2):
         front_substitute_rear(b, tg, braking, yaw_rate, r_ref, p_est, requests, p, st)
+    elif p.blowout_compensation_front_substitute_rear_flag > 1.5:
+        st[S_M7_SET] = 0.0  # (value 2, M7) outside the substitute rear's LIMITED episode: nothing latched
     if st[S_GB_ON] > 0.5:
         y_gb = yaw_rate
         if p.blowout_compensation_reject_heading_return_flag > 1.5:
@@ -1776,12 +1783,28 @@ def front_substitute_rear(b, tg, braking, yaw_err, r_ref, p_est, requests, p, st
       unstable``): there the car already rotates on a saturated rear axle, releasing the inner rear leaves the outer
       rear alone braked and the car slid on almost unbraked until the refusal (measured, findings L2: f_r11 #24 8.599
       -> 18.564 m without the curve gate, f_r41 #459 13.343 -> 14.223 m without the phase-plane gate); the
-      select-low still holds it there."""
+      select-low still holds it there.
+    * Value 2 (session m, tire_blowout_findings.md M7): the curve gate's premise checked - it holds only when the yaw
+      error toward the blown side was already beyond esp.yaw_dump_rate at the first braking period of the LIMITED
+      episode (S_M7_ERR0: a rotation under way before the pair braked, f_r11 #24: 0.168 rad/s). A rotation that grows
+      under the pair's own braking (f_r41 #32: 0.02 rad/s at the pedal, refused and spun with the gate, 11.370 m vs the
+      twin's 7.281; 7.393 m released) is the pair's moment: the steered reference already carries the curve."""
     w = b + 2  # the rear on the blown side
     if braking < 0.5:
         return
+    # the curve gate: in a curve steered toward the blown side the inner rear is held, not released
+    curve_ok = toward_blown_side(b, r_ref) <= p.blowout_compensation_yaw_deadband_radps
+    if p.blowout_compensation_front_substitute_rear_flag > 1.5:
+        # (value 2, M7) the gate's premise checked: a rotation already under way when the rear pair began to brake -
+        # the yaw error toward the blown side (net of the steered reference) beyond esp.yaw_dump_rate at the first
+        # braking period of this LIMITED episode. A rotation that grows only under the pair's braking is the pair's
+        # own moment (both fronts unbraked, the rear axle braked on its own) and the yaw limitation releases it
+        if st[S_M7_SET] < 0.5:
+            st[S_M7_ERR0] = toward_blown_side(b, yaw_err)
+            st[S_M7_SET] = 1.0
+        curve_ok = curve_ok or st[S_M7_ERR0] <= p.esp_yaw_dump_rate_radps
     if (toward_blown_side(b, yaw_err) > p.esp_yaw_dump_rate_radps
-            and toward_blown_side(b, r_ref) <= p.blowout_compensation_yaw_deadband_radps
+            and curve_ok
             and not phase_plane_unstable(st[S_BETA_EST], st[S_BETA_DOT], p)):
         requests[w] = Q_RELEASE
     else:

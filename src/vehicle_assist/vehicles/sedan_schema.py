@@ -426,8 +426,9 @@ class SedanBlowoutCompensation(Strict):
     # brakes: the blown side's rear held at no more than the substitute's pressure (the ESP's rear select-low, which the
     # compensation's target bypasses) and released while the yaw error toward the blown side exceeds esp.yaw_dump_rate
     # (not in a curve toward the blown side nor outside the phase-plane stable region); 0 = the code before
-    # (tire_blowout_findings.md L2, session l)
-    front_substitute_rear_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # (tire_blowout_findings.md L2, session l); 2 = the curve gate only for a rotation already beyond esp.yaw_dump_rate
+    # when the pair began to brake (session m M7; 1 = the unconditional curve gate, the code before)
+    front_substitute_rear_flag: Annotated[int, Field(ge=0, le=2)] = 2
     # (session l, L8) a blown FRONT whose OWN inlet is diagnosed stuck closed, compensated on the other front while the
     # driver brakes: 1 = that front down to the driver's pressure (not the balance) while the yaw error points away
     # from the blown side beyond yaw_deadband, and the rear pair select-low on pressure when the braking rule sets no
