@@ -714,7 +714,12 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         elif toward > p.esp_yaw_hold_rate_radps:
             wheels[g, A_REQUEST] = R_GMA_HOLD
         elif (p.esp_gma_pressure_order_flag > 0.5 and blown >= 2 and g == 3 - blown
-              and wheels[g, A_P_EST] < wheels[1 - g, A_P_EST] - RAMP_SETTLED_PA):
+              and wheels[g, A_P_EST] < wheels[1 - g, A_P_EST] - RAMP_SETTLED_PA
+              and (p.esp_gma_pressure_order_flag < 1.5
+                   or (meas.inlet_valve_rl_ok if blown == 2 else meas.inlet_valve_rr_ok) < 0.5)):
+            # (value 2, M6: only while the blown rear's OWN inlet is diagnosed stuck closed - that rear is unbraked in
+            # the car without the function too, so the fronts are the only brakes the two cars can differ on; value 1
+            # everywhere added a new violation where the OTHER rear was stuck, t_r41 #51, L7)
             # (gma_pressure_order_flag, 0 = the code before) the GMA delays the presumed HIGH-mu front relative to the
             # one in ABS: it limits the DIFFERENCE of the fronts' pressures (see gma_follow_flag). Once the ABS front is
             # re-built above the delayed wheel, holding that wheel makes the difference point the other way - a yaw
