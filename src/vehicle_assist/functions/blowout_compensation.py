@@ -2084,6 +2084,11 @@ def understeer_rule(st, b, tg, mode, braking, r_ref, yaw_rate_meas, p_est, reque
     # (understeer_braking_flag, 0 = the code before: the rule rests while the driver brakes; session l L4, fb5 #164) the
     # shortfall is timed across the pedal and the rule acts under it too, the braking rule then keeps the lowered balance
     brk_ok = p.blowout_compensation_understeer_braking_flag > 0.5
+    if (brk_ok and p.blowout_compensation_understeer_braking_flag > 1.5 and braking > 0.5
+            and st[S_US_SHORT_S] <= 0.0 and st[S_US_LIMITED] < 0.5):
+        # (understeer_braking_flag 2, session m M3) only a shortfall already being timed - or a lowering already made -
+        # WITHOUT the pedal carries across it; no fresh start under the pedal (value 1 started one there too)
+        brk_ok = False
     if b < 0 or b >= 2 or tg != OPPOSITE[b] or mode != HOLD or (braking > 0.5 and not brk_ok):
         st[S_US_SHORT_S] = 0.0  # (understeer_persist_flag) the shortfall is timed in HOLD without the pedal only
         st[S_US_OVER_S] = 0.0
