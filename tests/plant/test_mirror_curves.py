@@ -92,3 +92,26 @@ def test_right_curve_starts_in_steady_cornering():
 def test_radius_below_the_minimum_is_a_clear_error(radius):
     with pytest.raises((InputError, ValueError), match="lane_radius_m"):
         va.load_scenario("blowout_lf_60kph_paper", sets=[f"vehicle.lane_keeper.lane_radius_m={radius}"])
+
+
+def test_shipped_right_curve_scenario_mirrors_the_left_one():
+    """blowout_rf_80kph_right_curve (FR blown, R = -500 m) is the shipped blowout_lf_80kph_curve mirrored: its metrics
+    are the left run's (per-side lane margins swapped, wheel index and moment estimate mirrored), and its checks are
+    the left run's verdicts; the no-compensation twin leaves the lane (the negative control), the function keeps it."""
+    left = va.simulate(va.load_scenario("blowout_lf_80kph_curve"))
+    right = va.simulate(va.load_scenario("blowout_rf_80kph_right_curve"))
+    off = va.simulate(va.load_scenario("blowout_rf_80kph_right_curve_off"))
+    ml, mr = left.metrics, right.metrics
+    swapped = {"blowout_lane_overshoot_left_m": "blowout_lane_overshoot_right_m",
+               "blowout_lane_overshoot_right_m": "blowout_lane_overshoot_left_m",
+               "blowout_lane_exceedance_left_m": "blowout_lane_exceedance_right_m",
+               "blowout_lane_exceedance_right_m": "blowout_lane_exceedance_left_m"}
+    for k in ("blowout_lateral_deviation_max_m", "blowout_lateral_deviation_3s_m", "blowout_yaw_rate_peak_radps",
+              "blowout_opposite_pressure_max_pa", "blowout_balance_ratio_frac", *swapped):
+        assert mr[swapped.get(k, k)] == pytest.approx(ml[k], rel=1e-9, abs=1e-9), k
+    assert mr["blowout_detected_wheel_index"] == 1.0 and ml["blowout_detected_wheel_index"] == 0.0
+    assert mr["blowout_moment_est_nm"] == pytest.approx(-ml["blowout_moment_est_nm"], rel=1e-9)
+    assert [c.ok for c in right.checks] == [c.ok for c in left.checks]
+    assert off.metrics["blowout_lane_departure_flag"] == 1.0 and mr["blowout_lane_departure_flag"] == 0.0
+    # the twin drifts toward the blown (right, inner) side: beyond the RIGHT marking
+    assert off.metrics["blowout_lane_overshoot_right_m"] > 1.0
