@@ -7,6 +7,9 @@
   resistances in the driving equation (``grade_resistance_n``, ``aero_drag_n``) are positive when they
   oppose forward motion, as in F_t = F_f + F_w + F_i + F_j (common.md section 3).
 * Wheel order: fl, fr, rl, rr.
+* Lane radius (``lane_keeper.lane_radius_m``) signed as the yaw rate: 0 straight, R > 0 a LEFT curve (counter-clockwise,
+  centre at y = +R), R < 0 a RIGHT curve (clockwise, centre at y = R < 0); lane offset left +. A right curve of -R is
+  the left curve of R mirrored (session m, M4).
 """
 from __future__ import annotations
 

@@ -9,7 +9,11 @@
 
   e_y = lateral offset of the CG from the lane centre (left +), e_psi = heading minus the lane heading; the
   change of delta is limited to the driver's steering-wheel rate / steering ratio. The lane is a straight
-  line (y = 0) or a circle of radius R (left turn, starting tangent to +x at the origin).
+  line (y = 0, R = 0) or a circle of SIGNED radius R starting tangent to +x at the origin: R > 0 a left turn
+  (centre (0, R), counter-clockwise), R < 0 a right turn (centre (0, R) below the start, clockwise); the sign is
+  ISO 8855's (y left +, yaw left +; session m, M4: before it, R <= 0 was a straight lane and the schema refused R < 0).
+  A right curve of -R is the left curve of R mirrored in the x axis: e_y, e_psi and delta_ff are negated exactly
+  (IEEE negation), so the plant's mirror symmetry carries over to the lane (tests/plant/test_mirror_curves.py).
 * Curves (both modes): the driver adds the circle's steady-state angle delta_ff = l/R + K*u^2/R (single-track
   steady state, K the linear understeer gradient from the vehicle's axle stiffnesses) to the scripted angle:
   ``fixed`` holds it for the entry speed (the wheel held at the curve's angle), ``follow`` at the present speed.
@@ -40,15 +44,20 @@ def initial_buffer() -> np.ndarray:
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def lane_errors(gx, gy, psi, lane_radius_m):
-    """(e_y left +, e_psi) of the CG relative to the lane (straight if lane_radius_m <= 0)."""
-    if lane_radius_m <= 0.0:
+    """(e_y left +, e_psi) of the CG relative to the lane: straight if lane_radius_m == 0, a left circle for
+    lane_radius_m > 0, a right circle for lane_radius_m < 0 (signed radius, centre (0, lane_radius_m))."""
+    if lane_radius_m == 0.0:
         return gy, math.atan2(math.sin(psi), math.cos(psi))
-    cx, cy = 0.0, lane_radius_m  # centre of the left-hand circle
+    cx, cy = 0.0, lane_radius_m  # centre: left of the start for a left curve, right of it for a right curve
     dx = gx - cx
     dy = gy - cy
     dist = math.sqrt(dx * dx + dy * dy)
-    e_y = lane_radius_m - dist  # inside the circle (left of the lane) +
-    lane_heading = math.atan2(dy, dx) + 0.5 * math.pi
+    if lane_radius_m > 0.0:
+        e_y = lane_radius_m - dist  # inside the left circle (left of the lane) +
+        lane_heading = math.atan2(dy, dx) + 0.5 * math.pi  # counter-clockwise
+    else:
+        e_y = dist + lane_radius_m  # outside the right circle (left of the lane) +: dist - |R|
+        lane_heading = math.atan2(dy, dx) - 0.5 * math.pi  # clockwise
     e = psi - lane_heading
     return e_y, math.atan2(math.sin(e), math.cos(e))
 
@@ -72,8 +81,8 @@ def understeer_gradient(mass_kg, l_f_m, l_r_m, c_front_axle_n_per_rad, c_rear_ax
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def curve_steer_rad(lane_radius_m, speed_mps, wheelbase_m, understeer_rad_per_mps2):
     """Steady-state road-wheel angle of the lane's circle, delta = l/R + K*u^2/R (single-track steady state;
-    0 on a straight lane): the driver's feed-forward for a curve."""
-    if lane_radius_m <= 0.0:
+    0 on a straight lane, negative for a right curve R < 0): the driver's feed-forward for a curve."""
+    if lane_radius_m == 0.0:
         return 0.0
     return wheelbase_m / lane_radius_m + understeer_rad_per_mps2 * speed_mps * speed_mps / lane_radius_m
 

@@ -51,7 +51,8 @@ def blowout_png(trace, path, title) -> Path:
 FIGURES["tire_blowout"] = blowout_png
 
 SCENARIOS = ("blowout_lf_60kph_paper", "blowout_lf_60kph_off", "blowout_rf_60kph", "blowout_rr_60kph",
-             "blowout_lf_80kph_curve", "blowout_lf_60kph_low_mu", "blowout_lf_60kph_closed_loop",
+             "blowout_lf_80kph_curve", "blowout_rf_80kph_right_curve", "blowout_rf_80kph_right_curve_off",
+             "blowout_lf_60kph_low_mu", "blowout_lf_60kph_closed_loop",
              "blowout_lf_60kph_lane_keeper", "blowout_panic_stop_80kph", "blowout_false_detection_60kph",
              "blowout_false_detection_ws_only_60kph", "blowout_low_accumulator_60kph", "blowout_inlet_stuck_60kph",
              "blowout_braking_60kph", "blowout_braking_60kph_off", "blowout_panic_stop_immediate_80kph",
@@ -64,7 +65,7 @@ def reproduction():
     return Reproduction(
         "004",
         "Tire-blowout stabilisation by differential braking (paper 004): BJ2500 left-front blowout at 60 km/h with "
-        "and without compensation, mirror and rear blowouts, curve, low friction, panic stop, faults",
+        "and without compensation, mirror and rear blowouts, left and right curves, low friction, panic stop, faults",
         SCENARIOS, figures=("tire_blowout",),
         figure_scenarios=("blowout_lf_60kph_paper", "blowout_lf_60kph_off", "blowout_panic_stop_80kph"),
         extras=("blowout_fig4", "blowout_sweep", "falsify_004"))

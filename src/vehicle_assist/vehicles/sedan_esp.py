@@ -215,7 +215,7 @@ def simulate(p, s, noise, meas, ctl, wheels, hst, bst, lkbuf, tr, events):
     dist = s.initial_position_m
     a_x = 0.0
     a_y = 0.0
-    if p.lane_keeper_lane_radius_m > 0.0:  # start in steady cornering on the lane's circle (linear single track)
+    if p.lane_keeper_lane_radius_m != 0.0:  # start in steady cornering on the lane's circle (linear single track; R < 0 right)
         r = u / p.lane_keeper_lane_radius_m
         v = u * (l_r - m * l_f * u * u / ((l_f + l_r) * 2.0 * c_y[2])) / p.lane_keeper_lane_radius_m
         a_y = u * r

@@ -462,6 +462,12 @@ class SedanBlowoutCompensation(Strict):
         return self
 
 
+# std: JTG B01-2014 limit minimum radius of a circular curve at the lowest design speed (20 km/h) = 15 m. Below it the
+# lane is not a road lane: the lane keeper measures e_y from the circle's centre (a 1-2 m offset would be a large part
+# of R) and its feed-forward l/R + K*u^2/R is a small-angle single-track law (l/R = 0.17 rad at 15 m already)
+MIN_LANE_RADIUS_M = 15.0
+
+
 class SedanLaneKeeper(Strict):
     """Driver steering (drivers/lane_keeper.py): hold the wheel fixed, or follow the lane with a reaction delay."""
 
@@ -470,8 +476,18 @@ class SedanLaneKeeper(Strict):
     lateral_gain_rad_per_m: Annotated[float, Field(ge=0, le=1)]
     heading_gain_frac: Annotated[float, Field(ge=0, le=5)]
     steering_ratio: Annotated[float, Field(gt=1, le=40)]
-    lane_radius_m: Annotated[float, Field(ge=0, le=1e5)]  # 0: straight lane
+    # signed lane radius (ISO 8855, conventions.py: y left +): 0 a straight lane, R > 0 a LEFT curve, R < 0 a RIGHT
+    # curve (session m, M4; before it R < 0 was refused and R <= 0 meant straight); |R| >= MIN_LANE_RADIUS_M
+    lane_radius_m: Annotated[float, Field(ge=-1e5, le=1e5)]
     max_steer_rate_radps: Annotated[float, Field(gt=0, le=20)]
+
+    @model_validator(mode="after")
+    def _radius(self):
+        r = self.lane_radius_m
+        if r != 0.0 and abs(r) < MIN_LANE_RADIUS_M:
+            raise ValueError(f"lane_radius_m = {r:g}: a curve needs |R| >= {MIN_LANE_RADIUS_M:g} m (0 = straight, "
+                             f"+ left, - right; JTG B01-2014 limit minimum radius at 20 km/h)")
+        return self
 
 
 class SedanEspVehicle(Strict):
