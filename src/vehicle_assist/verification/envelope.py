@@ -607,8 +607,12 @@ class Envelope:
         return [{"dimension": d.name, "kind": d.kind, "values": d.describe(), "source": d.source} for d in self.dims]
 
 
-def load_envelope(name_or_path: str | Path, validate: bool = True) -> Envelope:
-    """Load and validate an envelope (shipped name like ``hill_start_amt`` or a .toml path)."""
+DIMENSION_TABLES = ("ranges", "choices", "profiles")
+EXTENDS_DEPTH_MAX = 4  # a chain of envelopes extending envelopes; deeper is a mistake, not a design
+
+
+def _read_envelope_raw(name_or_path: str | Path) -> tuple[Path, dict]:
+    """(path, raw TOML table) of a shipped envelope name or a .toml path; one-line errors."""
     files = shipped_envelopes()
     text = str(name_or_path)
     if text in files:
@@ -630,6 +634,44 @@ def load_envelope(name_or_path: str | Path, validate: bool = True) -> Envelope:
         raise InputError(f"{path}: file not found; give an existing envelope file or a shipped name ({', '.join(files)})") from None
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{path}: not valid TOML ({exc}); fix the syntax at that place") from None
+    return path, raw
+
+
+def _resolve_extends(path: Path, raw: dict, chain: tuple[str, ...] = ()) -> dict:
+    """An envelope with ``extends = "NAME"`` (a shipped envelope, or a .toml path relative to this file) is that
+    envelope with this file's keys on top: a top-level key replaces the base's, and a dimension of ``ranges``,
+    ``choices`` or ``profiles`` replaces the base's dimension of the same name WHOLE (its options, bounds and source),
+    the others staying as in the base, in the base's order - so a variant (e.g. the same envelope in right-hand
+    curves) states only what differs and cannot drift from its base."""
+    if "extends" not in raw:
+        return raw
+    target = raw["extends"]
+    where = f"{path}: extends"
+    if not isinstance(target, str) or not target.strip():
+        raise InputError(f"{where}: give the base envelope as a shipped name or a .toml path, not {target!r}")
+    if len(chain) >= EXTENDS_DEPTH_MAX:
+        raise InputError(f"{where}: more than {EXTENDS_DEPTH_MAX} envelopes extend each other ({' -> '.join(chain)})")
+    local = path.parent / target
+    base_path, base_raw = _read_envelope_raw(local if target.endswith(".toml") and local.exists() else target)
+    key = str(base_path.resolve())
+    if key in chain or base_path.resolve() == path.resolve():
+        raise InputError(f"{where} = {target!r}: the envelopes extend each other in a cycle")
+    base_raw = _resolve_extends(base_path, base_raw, chain + (str(path.resolve()), ))
+    merged = dict(base_raw)
+    for k, v in raw.items():
+        if k == "extends":
+            continue
+        if k in DIMENSION_TABLES and isinstance(v, dict) and isinstance(base_raw.get(k), dict):
+            merged[k] = {**base_raw[k], **v}
+        else:
+            merged[k] = v
+    return merged
+
+
+def load_envelope(name_or_path: str | Path, validate: bool = True) -> Envelope:
+    """Load and validate an envelope (shipped name like ``hill_start_amt`` or a .toml path; ``extends`` a base)."""
+    path, raw = _read_envelope_raw(name_or_path)
+    raw = _resolve_extends(path, raw)
     try:
         model = EnvelopeModel.model_validate(raw, strict=True)  # strict: "8.5" and true are not numbers
     except ValidationError as exc:
