@@ -147,12 +147,15 @@ def test_blown_front_with_its_side_rear_stuck_is_left_as_before():
     """L1 measured the rule on a blown FRONT (its side's rear stuck) and found it wrong there (14 of 18 changed points
     worse, 4 new violations), so it returns for b < 2 - but no test guarded that return (review RL2: a mutant acting on
     fronts too passes L1's tests, whose only point is a blown rear). #360 mirrored to FR blown, RR stuck: flag 1 must
-    give the run of flag 0 (the code before) bit for bit, and never limit code 6."""
+    give the run of flag 0 (the code before) bit for bit, and never limit code 6. (Session m M2: a blown front is now
+    blown_side_front_flag's - pinned 0 here, the return this test guards; M2's value 2 is tested in
+    test_blowout_blown_side_front.py.)"""
     import vehicle_assist as va
 
     env = load_envelope("tire_blowout_faults")
     point = dict(P360, wheel="fr", fault="inlet_stuck_rr")
-    runs = [va.simulate(env.scenario(point).with_sets(f"vehicle.blowout_compensation.blown_side_fault_flag={f}"),
+    runs = [va.simulate(env.scenario(point).with_sets(f"vehicle.blowout_compensation.blown_side_fault_flag={f}",
+                                                      "vehicle.blowout_compensation.blown_side_front_flag=0"),
                         requirements=False) for f in (1, 0)]
     assert np.max(np.asarray(runs[0].trace["brake_pedal_frac"])) > 0.3  # the driver brakes (the rule's condition)
     for w in ("fl", "fr", "rl", "rr"):

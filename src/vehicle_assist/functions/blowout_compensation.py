@@ -1621,7 +1621,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             and st[S_LIMIT_CODE] == LIMIT_OTHER_AXLE and b >= 2 and 0 <= tg < 2):
         substitute_yaw_limit(b, tg, yaw_rate, p_est, requests, p, st)
     if p.blowout_compensation_blown_side_fault_flag > 0.5 and b >= 0:
-        blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, p)
+        blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, p, yaw_rate)
     if (p.blowout_compensation_front_substitute_rear_flag > 0.5 and mode == LIMITED
             and st[S_LIMIT_CODE] == LIMIT_OTHER_AXLE and 0 <= b < 2 and tg >= 2):
         front_substitute_rear(b, tg, braking, yaw_rate, r_ref, p_est, requests, p, st)
@@ -1679,7 +1679,7 @@ def substitute_yaw_limit(b, tg, yaw_err, p_est, requests, p, st):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, p):
+def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, p, yaw_err):
     """``blown_side_fault_flag`` (0 = the code before; session l L1, tire_blowout_findings.md L1, K1's r41 #360). The
     wheel on the blown wheel's SIDE on the other axle (FL <-> RL, FR <-> RR) has its inlet diagnosed stuck closed: after
     the paper's release of the blown wheel (P7, eqs. 26-28: F_b = 0) that side has no brake at all, so a braking
@@ -1721,10 +1721,26 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
     away from the blown side, so such a detection was rejected (yaw_implausible) 5 ms after it; value 3 had then only
     suppressed the 5 ms release and its re-apply and reported code 6 through the REJECTED mode: f_r41 #134 +0.010 ->
     -0.021, t_r41 #470 +0.003 -> -0.020 m (L6's two new violations; +-2 % speed around them: worse than 0 in 16/21 and
-    21/21 points)."""
-    if b < 2:
+    21/21 points).
+
+    ``blown_side_front_flag`` (session m M2, tire_blowout_findings.md M2; 0 = the code before: a blown rear only): a
+    blown FRONT whose side's REAR inlet is diagnosed stuck, with every premise and gate above (the pedal, the stuck
+    wheel unbraked at its diagnosis, value 4's two-source detection). The blown side is then unbraked while the driver
+    brakes, but unlike the rear case the front balance still holds: the paper's release and the braking rule's counter-
+    brake act on the same (front) axle. What the release does not contain is the free REAR's brake, b_r*F_rr alone,
+    a moment away from the blown side (eqs. 22-28 assume the rears brake alike). Value 2: the rear pair select-low on
+    pressure - the free rear held at no more than 1 bar above the pressure the fault trapped in the stuck rear
+    (S_REAR_CAP, as own_stuck_front's rear pair; the ESP's rear select-low, Bosch Automotive Handbook) while the yaw
+    error (steered reference) points away from the blown side beyond the dead band (the braking rule's own gate); the
+    front balance stays the paper's; limit code 6. Value 1 (measured, NOT shipped): value 1..4's stand-down (the
+    blown front to the driver and ABS, the counter-brake front to the master pressure): the function's counter-brake
+    beats the twin on most such points and the stand-down gave it back - own set of 192 points 10 -> 15 violations,
+    9 new, 76 worse (L1's v1 found the same)."""
+    if b < 2 and p.blowout_compensation_blown_side_front_flag < 0.5:
         return  # a blown REAR only (its side's front stuck): measured, see the docstring
-    s = b - 2  # the blown side's front
+    # the blown side's wheel on the other axle (FL <-> RL, FR <-> RR); (blown_side_front_flag, session m M2) a blown
+    # FRONT with its side's REAR stuck as well
+    s = b - 2 if b >= 2 else b + 2
     # (review RL2) code 6 says "no counter-brake is added": once the rule stands aside (the pedal released, the paper's
     # compensation back - measured at r41 #360 with the pedal released at 2.6 s: RL 32 bar, RR 1.4 bar, code still 6 to
     # the end) the code it wrote is taken back; it only ever replaced LIMIT_NONE. No dynamics change (no rule reads 6)
@@ -1744,6 +1760,20 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
         return  # (value 3) the stuck front holds a brake: the side is not unbraked, the paper's release stands
     if p.blowout_compensation_blown_side_fault_flag > 3.5 and st[S_SOURCES] < SRC_WS + SRC_TPMS - 0.5:
         return  # (value 4, RL4) a single-source detection: the paper's release is its confirmation probe (see above)
+    if b < 2 and p.blowout_compensation_blown_side_front_flag > 1.5:
+        # (blown_side_front_flag 2, session m M2) a blown FRONT, its side's rear stuck: the paper's front balance stays
+        # (blown front released, the braking rule's counter-brake) and the rear pair is held select-low on pressure -
+        # the free rear at no more than 1 bar above what the stuck rear carries (the pressure its fault trapped), as
+        # own_stuck_front's rear pair (S_REAR_CAP; functions/esp.py holds / dumps above it), while the yaw error
+        # (steered reference) points AWAY from the blown side beyond the dead band (the braking rule's own gate): the
+        # moment the lone rear brake makes
+        if toward_blown_side(b, yaw_err) < -p.blowout_compensation_yaw_deadband_radps:
+            cap = max(st[S_L6_TRAPPED + s], 0.0) + PRESSURE_MARGIN_PA
+            if st[S_REAR_CAP] < 0.0 or st[S_REAR_CAP] > cap:
+                st[S_REAR_CAP] = cap
+        if st[S_LIMIT_CODE] == LIMIT_NONE:
+            st[S_LIMIT_CODE] = LIMIT_BLOWN_SIDE
+        return
     requests[b] = Q_NONE
     if tg >= 0 and (mode == BUILD or mode == HOLD or mode == LIMITED):
         ceiling = p_est[b] if tg >= 2 else p_mc

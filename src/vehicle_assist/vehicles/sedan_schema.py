@@ -454,6 +454,9 @@ class SedanBlowoutCompensation(Strict):
     # (review RL2, candidate) blown_side_fault_flag's rule stands aside while the spin-front rule governs (limit code 5:
     # blown rear released, the compensating side's front braked); 0 = the code before (the rule acts under code 5 too)
     blown_side_spin_front_flag: Annotated[int, Field(ge=0, le=1)] = 0
+    # (session m M2) blown_side_fault_flag's premises for a blown FRONT whose side's REAR inlet is stuck closed: 2 the rear
+    # pair select-low on pressure while the yaw error points away from the blown side; 1 (candidate, worse) the stand-down
+    blown_side_front_flag: Annotated[int, Field(ge=0, le=2)] = 2
 
     @model_validator(mode="after")
     def _order(self):
