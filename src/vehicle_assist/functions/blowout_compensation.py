@@ -1617,6 +1617,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         substitute_yaw_limit(b, tg, yaw_rate, p_est, requests, p, st)
     if p.blowout_compensation_blown_side_fault_flag > 0.5 and b >= 0:
         blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, p)
+    if p.blowout_compensation_diagonal_fault_flag > 0.5 and b >= 2:
+        diagonal_fault(st, b, tg, mode, braking, inlet_ok, yaw_rate, p_est, requests, p)
     if (p.blowout_compensation_front_substitute_rear_flag > 0.5 and mode == LIMITED
             and st[S_LIMIT_CODE] == LIMIT_OTHER_AXLE and 0 <= b < 2 and tg >= 2):
         front_substitute_rear(b, tg, braking, yaw_rate, r_ref, p_est, requests, p, st)
@@ -1751,6 +1753,33 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
         st[S_REAR_CAP] = -1.0
     if st[S_LIMIT_CODE] == LIMIT_NONE:
         st[S_LIMIT_CODE] = LIMIT_BLOWN_SIDE
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def diagonal_fault(st, b, tg, mode, braking, inlet_ok, yaw_err, p_est, requests, p):
+    """``diagonal_fault_flag`` (0 = the code before; session m M1, tire_blowout_findings.md M1): the DIAGONAL fault.
+    A blown REAR b whose OTHER side's FRONT inlet is diagnosed stuck closed (RR blown + FL stuck, RL blown + FR stuck),
+    compensated (BUILD/HOLD/LIMITED) while the driver brakes. The paper's balance (eqs. 9, 22-28: the yaw moment of the
+    four brake forces plus the flat's drag) with the stuck front's force gone: M toward the blown side =
+    b_f*F_front(blown side) + b_r*(D + F_b) - b_r*F_tg, the front term no longer cancelled by the other front. The
+    paper's counter-brake (eq. 28: the intact rear of the blown axle, tg) is sized against the drag D alone and is held
+    to the rear's linear limit, so it cannot carry the pedal's one-sided front brake as well: f_r41 #318 (RR blown, FL
+    stuck, 97 km/h, pedal 0.49): FR 45-60 bar by the HBA pump, FL 0, RR released, RL 55-81 bar; yaw toward the blown
+    side -0.177 against the twin's -0.104 rad/s at 1.25 s, refused at 1.62 s, 20.33 m against the twin's 17.31.
+    ESP practice for a front pair braked on one side is the yaw-moment limitation (GMA, functions/esp.py; Bosch
+    Automotive Handbook, ABS/ESP yaw-moment build-up delay): it limits the FRONTS' pressure difference while the yaw rate
+    toward the braked side builds up. Here the other front is stuck, so the GMA's comparison is against it. The rule is
+    K2's ``substitute_yaw_limit`` (the blown side's front released beyond esp.yaw_dump_rate, and beyond esp.yaw_hold_rate
+    while more than 1 bar above the other front; yaw error net of the steered reference) with the stuck front as the
+    reference wheel - the same thresholds, no new number. The counter-brake rear is left to the compensation."""
+    if b < 2 or braking < 0.5:
+        return
+    w = b - 2  # the blown side's front
+    o = OPPOSITE[w]  # the other side's front: the stuck one
+    if inlet_ok[o] > 0.5 or inlet_ok[w] < 0.5:
+        return
+    if mode == BUILD or mode == HOLD or mode == LIMITED:
+        substitute_yaw_limit(b, o, yaw_err, p_est, requests, p, st)
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")

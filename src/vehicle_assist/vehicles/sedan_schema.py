@@ -453,6 +453,10 @@ class SedanBlowoutCompensation(Strict):
     # (review RL2, candidate) blown_side_fault_flag's rule stands aside while the spin-front rule governs (limit code 5:
     # blown rear released, the compensating side's front braked); 0 = the code before (the rule acts under code 5 too)
     blown_side_spin_front_flag: Annotated[int, Field(ge=0, le=1)] = 0
+    # (session m, M1) the DIAGONAL fault: a blown REAR whose OTHER side's FRONT inlet is diagnosed stuck closed, the
+    # driver braking: 1 = the ESP's yaw-moment limitation (K2's substitute_yaw_limit) on the blown side's front, judged
+    # against the stuck front; 0 = the code before (findings M1)
+    diagonal_fault_flag: Annotated[int, Field(ge=0, le=1)] = 0
 
     @model_validator(mode="after")
     def _order(self):
