@@ -22,7 +22,8 @@ import vehicle_assist as va
 from vehicle_assist.verification.envelope import load_envelope
 
 METRIC = "blowout_lateral_deviation_run_max_m"
-ON = ("vehicle.blowout_compensation.diagonal_fault_flag=1",)
+ON = ("vehicle.blowout_compensation.diagonal_fault_flag=2",)  # shipped
+NO_GATE = ("vehicle.blowout_compensation.diagonal_fault_flag=1",)  # value 1: without L2's phase-plane gate
 DEFECT = ("vehicle.blowout_compensation.diagonal_fault_flag=0",)  # the code before
 _COMMON = {"braking": "brakes"}
 # /tmp/lead/m/base/f_r41/falsify.json history #318 (RR blown, FL stuck, straight, fixed steering)
@@ -44,6 +45,14 @@ P204 = {"speed": 79.57532427244762, "mu": 0.6329731551294536, "delay": 0.0353285
         "brake.rate_per_s": 7.0783427999991915, "wheel": "rl", "driver": "fixed", "curve": "r650",
         "fault": "inlet_stuck_fr", **_COMMON}
 POINTS = {"318": P318, "117": P117, "204": P204}
+# /tmp/lead/m/base/t_r41/falsify.json history #346 (the shipped fault envelope with fault_time; random 41 -n 512): RR
+# blown, FL stuck at 0.07 s, straight, fixed, 116 km/h, mu 0.31, pedal at 2.44 s with the car already beyond the
+# stable region (refused at 2.73 s): value 1 released FR there and the spinning car kept its speed
+P346 = {"speed": 116.20362655127988, "mu": 0.3113307397311291, "delay": 0.33537106504735764,
+        "wheel_speed_noise": 0.04651031700153346, "noise_seed": 4913.0, "brake_gain": 0.7713242695380056,
+        "accumulator": 108.27943944915619, "fault_time": 0.0678378747907824, "brake.start_s": 2.4357093840969037,
+        "brake.level_frac": 0.17917112755608, "brake.rate_per_s": 29.6452573929857, "wheel": "rr", "driver": "fixed",
+        "curve": "straight", "fault": "inlet_stuck_fl", **_COMMON}
 
 
 def _run(env, point, baseline=False, sets=()):
@@ -97,3 +106,13 @@ def test_318_blown_side_front_limited(runs):
     wrong front or not at all leaves it at the code before's level."""
     on, defect = _front_mean_bar(runs["318"]["on"], "fr"), _front_mean_bar(runs["318"]["defect"], "fr")
     assert on < 0.5 * defect, (on, defect)
+
+
+def test_346_phase_plane_gate(env):
+    """Value 2's gate (L2's phase-plane gate): beyond the stable region at the pedal the blown side's front is left to
+    the driver and ABS as in the car without the function - never worse there (measured 14.423 <= 14.768 m, = flag 0),
+    while value 1 (no gate) is worse than the twin (14.999 m): removing the gate fails this test."""
+    none = _run(env, P346, baseline=True).metrics[METRIC]
+    on = _run(env, P346, sets=ON).metrics[METRIC]
+    no_gate = _run(env, P346, sets=NO_GATE).metrics[METRIC]
+    assert on <= none < no_gate, (on, none, no_gate)

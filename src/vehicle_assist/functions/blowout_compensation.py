@@ -41,7 +41,10 @@ mu*F'_z*R/K_b (authority limited: its moment arm/brake are smaller) - limit code
 code 2 if that wheel's inlet is stuck as well (no authority). BUILD/HOLD -> LIMITED (inlet_valve_stuck): the
 same diagnosis arriving after the detection. With a REAR blown (the substitute a front) the front on the
 blown side - its brake a moment toward the blown side - is released beyond the ESP's yaw rates (``substitute_yaw_limit``,
-``substitute_yaw_limit_flag``, 0 = the code before; tire_blowout_findings.md K2).
+``substitute_yaw_limit_flag``, 0 = the code before; tire_blowout_findings.md K2). The DIAGONAL fault (a REAR blown, the
+OTHER side's front stuck, the driver braking: the pedal brakes the blown side's front alone, a moment toward the blown
+side) takes the same yaw limitation on that front against the stuck one (``diagonal_fault``, ``diagonal_fault_flag``,
+0 = the code before; tire_blowout_findings.md M1).
 BUILD -> HOLD (valve_time_elapsed).
 BUILD/HOLD/LIMITED -> REJECTED (yaw_implausible), single-source detections only: the car yaws away from the
 presumed blown side by more than ``abort_yaw_rate`` (yaw rate minus the steady-state yaw rate of the measured
@@ -1205,7 +1208,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     _push_pressures(st, p_est)
     if p.blowout_compensation_enabled_flag < 0.5:
         return n_events
-    if p.blowout_compensation_blown_side_fault_flag > 2.5:
+    if p.blowout_compensation_blown_side_fault_flag > 2.5 or p.blowout_compensation_diagonal_fault_flag > 0.5:
         for i in range(4):
             if inlet_ok[i] < 0.5 and st[S_L6_TRAPPED + i] < 0.0:
                 st[S_L6_TRAPPED + i] = st[S_P_LINE + i]  # (blown_side_fault_flag 3) the pressure the fault trapped
@@ -1771,13 +1774,27 @@ def diagonal_fault(st, b, tg, mode, braking, inlet_ok, yaw_err, p_est, requests,
     toward the braked side builds up. Here the other front is stuck, so the GMA's comparison is against it. The rule is
     K2's ``substitute_yaw_limit`` (the blown side's front released beyond esp.yaw_dump_rate, and beyond esp.yaw_hold_rate
     while more than 1 bar above the other front; yaw error net of the steered reference) with the stuck front as the
-    reference wheel - the same thresholds, no new number. The counter-brake rear is left to the compensation."""
+    reference wheel - the same thresholds, no new number. The counter-brake rear is left to the compensation.
+    Premise as L6's value 3 (``blown_side_fault``): the stuck front is unbraked - the pressure the fault trapped in it
+    (S_L6_TRAPPED, the ECU's line estimate when its inlet was first diagnosed stuck, recorded with this flag on too)
+    below esp.plausibility_pressure; a front stuck while the driver brakes (L3's fault_time) keeps its brake and the
+    front pair is not one-sided.
+    Value 2 (shipped): value 1 except with the sideslip phase-plane state outside the stable region
+    (``phase_plane_unstable``, L2's gate in ``front_substitute_rear``): there the car already rotates on a saturated
+    rear axle and is refused moments later; releasing the braked front only kept its speed up, and a spinning car's
+    lateral excursion grows with its speed (faultsT t_r41 #346, RR blown, FL stuck at 0.07 s, mu 0.31, 116 km/h, pedal
+    at 2.44 s: the car beyond the stable region at the pedal, FR held at 2.4 bar against the twin's 20-37 until the
+    refusal at 2.73 s; 14.999 m against the twin's 14.768 - a new violation at value 1, +0.346 at 0 and 2)."""
     if b < 2 or braking < 0.5:
         return
     w = b - 2  # the blown side's front
     o = OPPOSITE[w]  # the other side's front: the stuck one
     if inlet_ok[o] > 0.5 or inlet_ok[w] < 0.5:
         return
+    if st[S_L6_TRAPPED + o] >= p.esp_plausibility_pressure_pa:
+        return  # the stuck front holds the brake it had when it stuck (L6's premise): the front pair is not one-sided
+    if p.blowout_compensation_diagonal_fault_flag > 1.5 and phase_plane_unstable(st[S_BETA_EST], st[S_BETA_DOT], p):
+        return  # (value 2) L2's phase-plane gate: beyond the stable region the front's release only keeps the speed up
     if mode == BUILD or mode == HOLD or mode == LIMITED:
         substitute_yaw_limit(b, o, yaw_err, p_est, requests, p, st)
 
