@@ -41,7 +41,10 @@ mu*F'_z*R/K_b (authority limited: its moment arm/brake are smaller) - limit code
 code 2 if that wheel's inlet is stuck as well (no authority). BUILD/HOLD -> LIMITED (inlet_valve_stuck): the
 same diagnosis arriving after the detection. With a REAR blown (the substitute a front) the front on the
 blown side - its brake a moment toward the blown side - is released beyond the ESP's yaw rates (``substitute_yaw_limit``,
-``substitute_yaw_limit_flag``, 0 = the code before; tire_blowout_findings.md K2).
+``substitute_yaw_limit_flag``, 0 = the code before; tire_blowout_findings.md K2). The DIAGONAL fault (a REAR blown, the
+OTHER side's front stuck, the driver braking: the pedal brakes the blown side's front alone, a moment toward the blown
+side) takes the same yaw limitation on that front against the stuck one (``diagonal_fault``, ``diagonal_fault_flag``,
+0 = the code before; tire_blowout_findings.md M1).
 BUILD -> HOLD (valve_time_elapsed).
 BUILD/HOLD/LIMITED -> REJECTED (yaw_implausible), single-source detections only: the car yaws away from the
 presumed blown side by more than ``abort_yaw_rate`` (yaw rate minus the steady-state yaw rate of the measured
@@ -1210,7 +1213,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     _push_pressures(st, p_est)
     if p.blowout_compensation_enabled_flag < 0.5:
         return n_events
-    if p.blowout_compensation_blown_side_fault_flag > 2.5:
+    if p.blowout_compensation_blown_side_fault_flag > 2.5 or p.blowout_compensation_diagonal_fault_flag > 0.5:
         for i in range(4):
             if inlet_ok[i] < 0.5 and st[S_L6_TRAPPED + i] < 0.0:
                 st[S_L6_TRAPPED + i] = st[S_P_LINE + i]  # (blown_side_fault_flag 3) the pressure the fault trapped
@@ -1622,6 +1625,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         substitute_yaw_limit(b, tg, yaw_rate, p_est, requests, p, st)
     if p.blowout_compensation_blown_side_fault_flag > 0.5 and b >= 0:
         blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, p, yaw_rate)
+    if p.blowout_compensation_diagonal_fault_flag > 0.5 and b >= 2:
+        diagonal_fault(st, b, tg, mode, braking, inlet_ok, yaw_rate, p_est, requests, p)
     if (p.blowout_compensation_front_substitute_rear_flag > 0.5 and mode == LIMITED
             and st[S_LIMIT_CODE] == LIMIT_OTHER_AXLE and 0 <= b < 2 and tg >= 2):
         front_substitute_rear(b, tg, braking, yaw_rate, r_ref, p_est, requests, p, st)
@@ -1788,6 +1793,47 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
         st[S_REAR_CAP] = -1.0
     if st[S_LIMIT_CODE] == LIMIT_NONE:
         st[S_LIMIT_CODE] = LIMIT_BLOWN_SIDE
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def diagonal_fault(st, b, tg, mode, braking, inlet_ok, yaw_err, p_est, requests, p):
+    """``diagonal_fault_flag`` (0 = the code before; session m M1, tire_blowout_findings.md M1): the DIAGONAL fault.
+    A blown REAR b whose OTHER side's FRONT inlet is diagnosed stuck closed (RR blown + FL stuck, RL blown + FR stuck),
+    compensated (BUILD/HOLD/LIMITED) while the driver brakes. The paper's balance (eqs. 9, 22-28: the yaw moment of the
+    four brake forces plus the flat's drag) with the stuck front's force gone: M toward the blown side =
+    b_f*F_front(blown side) + b_r*(D + F_b) - b_r*F_tg, the front term no longer cancelled by the other front. The
+    paper's counter-brake (eq. 28: the intact rear of the blown axle, tg) is sized against the drag D alone and is held
+    to the rear's linear limit, so it cannot carry the pedal's one-sided front brake as well: f_r41 #318 (RR blown, FL
+    stuck, 97 km/h, pedal 0.49): FR 45-60 bar by the HBA pump, FL 0, RR released, RL 55-81 bar; yaw toward the blown
+    side -0.177 against the twin's -0.104 rad/s at 1.25 s, refused at 1.62 s, 20.33 m against the twin's 17.31.
+    ESP practice for a front pair braked on one side is the yaw-moment limitation (GMA, functions/esp.py; Bosch
+    Automotive Handbook, ABS/ESP yaw-moment build-up delay): it limits the FRONTS' pressure difference while the yaw rate
+    toward the braked side builds up. Here the other front is stuck, so the GMA's comparison is against it. The rule is
+    K2's ``substitute_yaw_limit`` (the blown side's front released beyond esp.yaw_dump_rate, and beyond esp.yaw_hold_rate
+    while more than 1 bar above the other front; yaw error net of the steered reference) with the stuck front as the
+    reference wheel - the same thresholds, no new number. The counter-brake rear is left to the compensation.
+    Premise as L6's value 3 (``blown_side_fault``): the stuck front is unbraked - the pressure the fault trapped in it
+    (S_L6_TRAPPED, the ECU's line estimate when its inlet was first diagnosed stuck, recorded with this flag on too)
+    below esp.plausibility_pressure; a front stuck while the driver brakes (L3's fault_time) keeps its brake and the
+    front pair is not one-sided.
+    Value 2 (shipped): value 1 except with the sideslip phase-plane state outside the stable region
+    (``phase_plane_unstable``, L2's gate in ``front_substitute_rear``): there the car already rotates on a saturated
+    rear axle and is refused moments later; releasing the braked front only kept its speed up, and a spinning car's
+    lateral excursion grows with its speed (faultsT t_r41 #346, RR blown, FL stuck at 0.07 s, mu 0.31, 116 km/h, pedal
+    at 2.44 s: the car beyond the stable region at the pedal, FR held at 2.4 bar against the twin's 20-37 until the
+    refusal at 2.73 s; 14.999 m against the twin's 14.768 - a new violation at value 1, +0.346 at 0 and 2)."""
+    if b < 2 or braking < 0.5:
+        return
+    w = b - 2  # the blown side's front
+    o = OPPOSITE[w]  # the other side's front: the stuck one
+    if inlet_ok[o] > 0.5 or inlet_ok[w] < 0.5:
+        return
+    if st[S_L6_TRAPPED + o] >= p.esp_plausibility_pressure_pa:
+        return  # the stuck front holds the brake it had when it stuck (L6's premise): the front pair is not one-sided
+    if p.blowout_compensation_diagonal_fault_flag > 1.5 and phase_plane_unstable(st[S_BETA_EST], st[S_BETA_DOT], p):
+        return  # (value 2) L2's phase-plane gate: beyond the stable region the front's release only keeps the speed up
+    if mode == BUILD or mode == HOLD or mode == LIMITED:
+        substitute_yaw_limit(b, o, yaw_err, p_est, requests, p, st)
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
