@@ -1626,7 +1626,7 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     if p.blowout_compensation_blown_side_fault_flag > 0.5 and b >= 0:
         blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, p, yaw_rate)
     if p.blowout_compensation_diagonal_fault_flag > 0.5 and b >= 2:
-        diagonal_fault(st, b, tg, mode, braking, inlet_ok, yaw_rate, p_est, requests, p)
+        diagonal_fault(st, b, tg, mode, braking, inlet_ok, yaw_rate, p_est, requests, p, r_ref)
     if (p.blowout_compensation_front_substitute_rear_flag > 0.5 and mode == LIMITED
             and st[S_LIMIT_CODE] == LIMIT_OTHER_AXLE and 0 <= b < 2 and tg >= 2):
         front_substitute_rear(b, tg, braking, yaw_rate, r_ref, p_est, requests, p, st)
@@ -1796,7 +1796,7 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def diagonal_fault(st, b, tg, mode, braking, inlet_ok, yaw_err, p_est, requests, p):
+def diagonal_fault(st, b, tg, mode, braking, inlet_ok, yaw_err, p_est, requests, p, r_ref):
     """``diagonal_fault_flag`` (0 = the code before; session m M1, tire_blowout_findings.md M1): the DIAGONAL fault.
     A blown REAR b whose OTHER side's FRONT inlet is diagnosed stuck closed (RR blown + FL stuck, RL blown + FR stuck),
     compensated (BUILD/HOLD/LIMITED) while the driver brakes. The paper's balance (eqs. 9, 22-28: the yaw moment of the
@@ -1832,6 +1832,9 @@ def diagonal_fault(st, b, tg, mode, braking, inlet_ok, yaw_err, p_est, requests,
         return  # the stuck front holds the brake it had when it stuck (L6's premise): the front pair is not one-sided
     if p.blowout_compensation_diagonal_fault_flag > 1.5 and phase_plane_unstable(st[S_BETA_EST], st[S_BETA_DOT], p):
         return  # (value 2) L2's phase-plane gate: beyond the stable region the front's release only keeps the speed up
+    if (p.blowout_compensation_diagonal_fault_flag > 2.5
+            and toward_blown_side(b, r_ref) > p.blowout_compensation_yaw_deadband_radps):
+        return  # (value 3, RM1) L2's curve gate: a curve steered toward the blown side (front_substitute_rear's gate)
     if mode == BUILD or mode == HOLD or mode == LIMITED:
         substitute_yaw_limit(b, o, yaw_err, p_est, requests, p, st)
 

@@ -459,9 +459,10 @@ class SedanBlowoutCompensation(Strict):
     blown_side_front_flag: Annotated[int, Field(ge=0, le=2)] = 2
     # (session m, M1) the DIAGONAL fault: a blown REAR whose OTHER side's FRONT inlet is diagnosed stuck closed, the
     # driver braking: 1 = the ESP's yaw-moment limitation (K2's substitute_yaw_limit) on the blown side's front, judged
-    # against the stuck front, while the stuck front holds < esp.plausibility_pressure; 2 (shipped) = 1 except with the
-    # sideslip phase plane unstable (L2's gate); 0 = the code before (findings M1)
-    diagonal_fault_flag: Annotated[int, Field(ge=0, le=2)] = 0
+    # against the stuck front, while the stuck front holds < esp.plausibility_pressure; 2 = 1 except with the
+    # sideslip phase plane unstable (L2's gate); 3 (shipped, review RM1) = 2 except in a curve steered toward the blown
+    # side (L2's curve gate); 0 = the code before (findings M1, RM1)
+    diagonal_fault_flag: Annotated[int, Field(ge=0, le=3)] = 0
 
     @model_validator(mode="after")
     def _order(self):
