@@ -400,8 +400,10 @@ LIMIT_REASONS = ("none", "opposite inlet valve stuck closed: other-axle wheel of
                  "beyond the stable region rotating toward the blown side (rear blowout): rear wheel released, the "
                  "front wheel of its side braked to its lock estimate (spin_front_flag)",
                  "the blown side's other inlet valve stuck closed: that side has no other brake - while the driver "
-                 "brakes the blown wheel is left to the driver and ABS (not released) and no counter-brake is added "
-                 "(blown_side_fault_flag)")
+                 "brakes, rear blown: the blown wheel is left to the driver and ABS (not released) and no counter-brake "
+                 "is added (blown_side_fault_flag); front blown: the paper's front balance stays (blown front released, "
+                 "counter-brake front), the free rear held at no more than 1 bar above the stuck rear (rear select-low) "
+                 "while the yaw error points away from the blown side (blown_side_front_flag)")
 YAW_BOUND_FRAC = 0.85  # Rajamani, Vehicle Dynamics and Control (2nd ed. 2012), ch. 8 yaw control: |r| <= 0.85*mu*g/u
 SIDESLIP_BOUND_S2_PER_M = 0.02  # same source: beta_max = atan(0.02*mu*g)
 # measured tire capacity of the compensating wheel (tire_capacity_check / tire_capacity_rule)
@@ -1734,7 +1736,8 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
     # the blown side's wheel on the other axle (FL <-> RL, FR <-> RR); (blown_side_front_flag, session m M2) a blown
     # FRONT with its side's REAR stuck as well
     s = b - 2 if b >= 2 else b + 2
-    # (review RL2) code 6 says "no counter-brake is added": once the rule stands aside (the pedal released, the paper's
+    # (review RL2) code 6 says "no counter-brake is added" (a blown rear; a blown front, review RM2: "the free rear held
+    # select-low"): once the rule stands aside (the pedal released, the paper's
     # compensation back - measured at r41 #360 with the pedal released at 2.6 s: RL 32 bar, RR 1.4 bar, code still 6 to
     # the end) the code it wrote is taken back; it only ever replaced LIMIT_NONE. No dynamics change (no rule reads 6)
     stand_aside = inlet_ok[s] > 0.5 or braking < 0.5
