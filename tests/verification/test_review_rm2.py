@@ -124,3 +124,24 @@ def test_limit_code_6_says_what_the_front_rule_does():
 
     why = LIMIT_REASONS[LIMIT_BLOWN_SIDE]
     assert "front blown" in why and "select-low" in why and "blown_side_front_flag" in why, why
+
+
+P61T = {"speed": 84.90912784968877, "mu": 0.31295992770956355, "delay": 0.45320438626887666,
+        "wheel_speed_noise": 0.11673692360032095, "noise_seed": 2939.0, "brake_gain": 0.8221361681127359,
+        "accumulator": 46.225079390927164, "fault_time": 1.683003909343571, "brake.start_s": 0.9678204181279444,
+        "brake.level_frac": 0.40067602664282687, "brake.rate_per_s": 23.379350647506904, "braking": "brakes",
+        "wheel": "fl", "driver": "fixed", "curve": "r650", "fault": "inlet_stuck_rl"}
+
+
+def test_rear_stuck_while_braked_keeps_the_code_before():
+    """The premise 'the stuck wheel is unbraked at its diagnosis' (blown_side_fault_flag 3, esp.plausibility_pressure)
+    holds for a blown front too. RM2's search on the shipped tire_blowout_faults (fault_time; random seed 29) #61: FL
+    blown, RL stuck at 1.68 s with the pedal on since 0.97 s (pressure trapped in RL): value 2 must run as flag 0 (the
+    code before), bit for bit. A mutant without that premise for fronts: -0.031 -> -0.203 m (already a violation at
+    flag 0: the point tests the gate, not never-worse)."""
+    env = load_envelope("tire_blowout_faults")
+    a, b = _run(env, P61T, 2), _run(env, P61T, 0)
+    assert np.max(np.asarray(a.trace["wheel_pressure_rl_pa"])) > 2 * BAR  # premise: RL was braked when it stuck
+    assert a.metrics[METRIC] == b.metrics[METRIC]
+    for w in ("fl", "fr", "rl", "rr"):
+        assert np.array_equal(np.asarray(a.trace[f"wheel_pressure_{w}_pa"]), np.asarray(b.trace[f"wheel_pressure_{w}_pa"])), w
