@@ -369,7 +369,10 @@ S_SUB_HOLD = S_REFUSED_DET + 1
 # (blown_side_fault_flag 3, session l L6) per wheel fl fr rl rr: the ECU's line-pressure estimate when its inlet was
 # first diagnosed stuck closed - the pressure trapped in that wheel [Pa]; -1 = not diagnosed (yet)
 S_L6_TRAPPED = S_SUB_HOLD + 1
-STATE_SIZE = S_L6_TRAPPED + 4
+# (blown_side_front_flag 3, session m M2b) 1 = the free rear's select-low gate is open (latched beyond the dead band
+# away from the blown side, closed only beyond it toward the blown side); 0 = closed
+S_M2B_GATE = S_L6_TRAPPED + 4
+STATE_SIZE = S_M2B_GATE + 1
 # (heading_return_line_flag, session k K3) the fraction of the other front's pressure the heading return may take off the
 # released front: with it the front axle keeps (2 - 0.5)/2 = 0.75 of its brake force, UN R13-H Annex 6 para 5.2's
 # minimum adhesion utilisation epsilon >= 0.75 of an anti-lock car transposed onto the axle the rule acts on (assumed
@@ -434,6 +437,7 @@ def initial_state() -> np.ndarray:
     st[S_TARGET] = -1.0
     st[S_SUB_HOLD] = -1.0
     st[S_L6_TRAPPED:S_L6_TRAPPED + 4] = -1.0
+    st[S_M2B_GATE] = 0.0
     st[S_EXCLUDED] = -1.0
     st[S_REJECTED] = -1.0
     st[S_BUF_LAST] = -1.0
@@ -1727,7 +1731,9 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
     pressure - the free rear held at no more than 1 bar above the pressure the fault trapped in the stuck rear
     (S_REAR_CAP, as own_stuck_front's rear pair; the ESP's rear select-low, Bosch Automotive Handbook) while the yaw
     error (steered reference) points away from the blown side beyond the dead band (the braking rule's own gate); the
-    front balance stays the paper's; limit code 6. Value 1 (measured, NOT shipped): value 1..4's stand-down (the
+    front balance stays the paper's; limit code 6. Value 3 (session m M2b, shipped): value 2's gate with a hysteresis
+    from the ESP's numbers - opened beyond esp.yaw_hold_rate away from the blown side, closed only beyond the dead band
+    toward it (S_M2B_GATE); value 2's dead-band gate toggled at the edge (RM2's ft s31 #154). Value 1 (measured, NOT shipped): value 1..4's stand-down (the
     blown front to the driver and ABS, the counter-brake front to the master pressure): the function's counter-brake
     beats the twin on most such points and the stand-down gave it back - own set of 192 points 10 -> 15 violations,
     9 new, 76 worse (L1's v1 found the same)."""
@@ -1763,7 +1769,22 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
         # own_stuck_front's rear pair (S_REAR_CAP; functions/esp.py holds / dumps above it), while the yaw error
         # (steered reference) points AWAY from the blown side beyond the dead band (the braking rule's own gate): the
         # moment the lone rear brake makes
-        if toward_blown_side(b, yaw_err) < -p.blowout_compensation_yaw_deadband_radps:
+        # (value 3, session m M2b, tire_blowout_findings.md M2b) a hysteresis from the ESP's own numbers: the gate
+        # opens once the yaw error points away from the blown side beyond esp.yaw_hold_rate (the ESP's threshold for
+        # holding a wheel whose brake yaws the car; 2 deg/s) and stays open (S_M2B_GATE) until the error points TOWARD
+        # the blown side beyond the dead band (there the lone rear's moment away helps). Value 2's gate at the dead
+        # band's edge toggled at ft s31 #154 (error -0.017..+0.006 rad/s vs db 0.0175): the counter-brake FR then
+        # settled on an 8.7 bar hold where value 0 ABS-cycles 4-21 bar (0.786 m vs 0.633, twin 0.698)
+        tw = toward_blown_side(b, yaw_err)
+        db = p.blowout_compensation_yaw_deadband_radps
+        gate = tw < -db
+        if p.blowout_compensation_blown_side_front_flag > 2.5:
+            if tw < -p.esp_yaw_hold_rate_radps:
+                st[S_M2B_GATE] = 1.0
+            elif st[S_M2B_GATE] > 0.5 and tw > db:
+                st[S_M2B_GATE] = 0.0
+            gate = st[S_M2B_GATE] > 0.5
+        if gate:
             cap = max(st[S_L6_TRAPPED + s], 0.0) + PRESSURE_MARGIN_PA
             if st[S_REAR_CAP] < 0.0 or st[S_REAR_CAP] > cap:
                 st[S_REAR_CAP] = cap

@@ -455,7 +455,7 @@ class SedanBlowoutCompensation(Strict):
     blown_side_spin_front_flag: Annotated[int, Field(ge=0, le=1)] = 0
     # (session m M2) blown_side_fault_flag's premises for a blown FRONT whose side's REAR inlet is stuck closed: 2 the rear
     # pair select-low on pressure while the yaw error points away from the blown side; 1 (candidate, worse) the stand-down
-    blown_side_front_flag: Annotated[int, Field(ge=0, le=2)] = 2
+    blown_side_front_flag: Annotated[int, Field(ge=0, le=3)] = 3
 
     @model_validator(mode="after")
     def _order(self):
