@@ -161,3 +161,23 @@ def test_blown_front_with_its_side_rear_stuck_is_left_as_before():
     for w in ("fl", "fr", "rl", "rr"):
         assert np.array_equal(runs[0].trace[f"wheel_pressure_{w}_pa"], runs[1].trace[f"wheel_pressure_{w}_pa"]), w
     assert 6 not in np.asarray(runs[0].trace["blowout_limit_code"])
+
+
+def test_blown_front_with_its_side_rear_stuck_keeps_the_paper_release_at_the_shipped_flags():
+    """(Review RM2, session m) The guard above pins blown_side_front_flag = 0 (the code before, still the seeded defect
+    the tests compare with). At the SHIPPED flags (blown_side_fault_flag 4, blown_side_front_flag 2) a blown front is
+    the rule's, and what the guard was for still holds: L1's stand-down (blown wheel to the driver and ABS, no
+    counter-brake) never reaches a blown FRONT - the paper's release stands (P7, eqs. 26-28: F_b = 0; flag 0 keeps FR
+    at 0 bar) while code 6 says the rule acts. #360 mirrored (FR blown, RR stuck, straight, pedal 0.49 from 1.31 s):
+    value 2 FR max 0.0 bar, code 6, 0.058 m (twin 0.677); value 1 (the stand-down, M2's measured bad candidate) FR
+    15-19 bar, 0.304 m. A mutant letting value 2 fall through to the stand-down fails here."""
+    import vehicle_assist as va
+
+    env = load_envelope("tire_blowout_faults")
+    point = dict(P360, wheel="fr", fault="inlet_stuck_rr")
+    r = va.simulate(env.scenario(point), requirements=False)  # the vehicle file's shipped flags
+    t = np.asarray(r.trace["time_s"])
+    w = (t >= 1.4) & (t <= 3.5)
+    assert np.max(np.asarray(r.trace["brake_pedal_frac"])) > 0.3  # the driver brakes (the rule's condition)
+    assert np.max(np.asarray(r.trace["wheel_pressure_fr_pa"])[w]) < 2.0e5  # released (esp.plausibility_pressure)
+    assert np.all(np.asarray(r.trace["blowout_limit_code"])[w] == 6)

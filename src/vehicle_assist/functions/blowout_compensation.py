@@ -377,7 +377,10 @@ S_L6_TRAPPED = S_SUB_HOLD + 1
 # that LIMITED episode)
 S_M7_ERR0 = S_L6_TRAPPED + 4
 S_M7_SET = S_M7_ERR0 + 1
-STATE_SIZE = S_M7_SET + 1
+# (blown_side_front_flag 3, session m M2b) 1 = the free rear's select-low gate is open (opened when the yaw error points
+# away from the blown side beyond esp.yaw_hold_rate, closed only beyond the dead band toward the blown side); 0 = closed
+S_M2B_GATE = S_M7_SET + 1
+STATE_SIZE = S_M2B_GATE + 1
 # (heading_return_line_flag, session k K3) the fraction of the other front's pressure the heading return may take off the
 # released front: with it the front axle keeps (2 - 0.5)/2 = 0.75 of its brake force, UN R13-H Annex 6 para 5.2's
 # minimum adhesion utilisation epsilon >= 0.75 of an anti-lock car transposed onto the axle the rule acts on (assumed
@@ -408,8 +411,10 @@ LIMIT_REASONS = ("none", "opposite inlet valve stuck closed: other-axle wheel of
                  "beyond the stable region rotating toward the blown side (rear blowout): rear wheel released, the "
                  "front wheel of its side braked to its lock estimate (spin_front_flag)",
                  "the blown side's other inlet valve stuck closed: that side has no other brake - while the driver "
-                 "brakes the blown wheel is left to the driver and ABS (not released) and no counter-brake is added "
-                 "(blown_side_fault_flag)")
+                 "brakes, rear blown: the blown wheel is left to the driver and ABS (not released) and no counter-brake "
+                 "is added (blown_side_fault_flag); front blown: the paper's front balance stays (blown front released, "
+                 "counter-brake front), the free rear held at no more than 1 bar above the stuck rear (rear select-low) "
+                 "while the yaw error points away from the blown side (blown_side_front_flag)")
 YAW_BOUND_FRAC = 0.85  # Rajamani, Vehicle Dynamics and Control (2nd ed. 2012), ch. 8 yaw control: |r| <= 0.85*mu*g/u
 SIDESLIP_BOUND_S2_PER_M = 0.02  # same source: beta_max = atan(0.02*mu*g)
 # measured tire capacity of the compensating wheel (tire_capacity_check / tire_capacity_rule)
@@ -440,6 +445,7 @@ def initial_state() -> np.ndarray:
     st[S_TARGET] = -1.0
     st[S_SUB_HOLD] = -1.0
     st[S_L6_TRAPPED:S_L6_TRAPPED + 4] = -1.0
+    st[S_M2B_GATE] = 0.0
     st[S_EXCLUDED] = -1.0
     st[S_REJECTED] = -1.0
     st[S_BUF_LAST] = -1.0
@@ -1737,7 +1743,9 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
     pressure - the free rear held at no more than 1 bar above the pressure the fault trapped in the stuck rear
     (S_REAR_CAP, as own_stuck_front's rear pair; the ESP's rear select-low, Bosch Automotive Handbook) while the yaw
     error (steered reference) points away from the blown side beyond the dead band (the braking rule's own gate); the
-    front balance stays the paper's; limit code 6. Value 1 (measured, NOT shipped): value 1..4's stand-down (the
+    front balance stays the paper's; limit code 6. Value 3 (session m M2b, shipped): value 2's gate with a hysteresis
+    from the ESP's numbers - opened beyond esp.yaw_hold_rate away from the blown side, closed only beyond the dead band
+    toward it (S_M2B_GATE); value 2's dead-band gate toggled at the edge (RM2's ft s31 #154). Value 1 (measured, NOT shipped): value 1..4's stand-down (the
     blown front to the driver and ABS, the counter-brake front to the master pressure): the function's counter-brake
     beats the twin on most such points and the stand-down gave it back - own set of 192 points 10 -> 15 violations,
     9 new, 76 worse (L1's v1 found the same)."""
@@ -1746,7 +1754,8 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
     # the blown side's wheel on the other axle (FL <-> RL, FR <-> RR); (blown_side_front_flag, session m M2) a blown
     # FRONT with its side's REAR stuck as well
     s = b - 2 if b >= 2 else b + 2
-    # (review RL2) code 6 says "no counter-brake is added": once the rule stands aside (the pedal released, the paper's
+    # (review RL2) code 6 says "no counter-brake is added" (a blown rear; a blown front, review RM2: "the free rear held
+    # select-low"): once the rule stands aside (the pedal released, the paper's
     # compensation back - measured at r41 #360 with the pedal released at 2.6 s: RL 32 bar, RR 1.4 bar, code still 6 to
     # the end) the code it wrote is taken back; it only ever replaced LIMIT_NONE. No dynamics change (no rule reads 6)
     stand_aside = inlet_ok[s] > 0.5 or braking < 0.5
@@ -1772,7 +1781,22 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
         # own_stuck_front's rear pair (S_REAR_CAP; functions/esp.py holds / dumps above it), while the yaw error
         # (steered reference) points AWAY from the blown side beyond the dead band (the braking rule's own gate): the
         # moment the lone rear brake makes
-        if toward_blown_side(b, yaw_err) < -p.blowout_compensation_yaw_deadband_radps:
+        # (value 3, session m M2b, tire_blowout_findings.md M2b) a hysteresis from the ESP's own numbers: the gate
+        # opens once the yaw error points away from the blown side beyond esp.yaw_hold_rate (the ESP's threshold for
+        # holding a wheel whose brake yaws the car; 2 deg/s) and stays open (S_M2B_GATE) until the error points TOWARD
+        # the blown side beyond the dead band (there the lone rear's moment away helps). Value 2's gate at the dead
+        # band's edge toggled at ft s31 #154 (error -0.017..+0.006 rad/s vs db 0.0175): the counter-brake FR then
+        # settled on an 8.7 bar hold where value 0 ABS-cycles 4-21 bar (0.786 m vs 0.633, twin 0.698)
+        tw = toward_blown_side(b, yaw_err)
+        db = p.blowout_compensation_yaw_deadband_radps
+        gate = tw < -db
+        if p.blowout_compensation_blown_side_front_flag > 2.5:
+            if tw < -p.esp_yaw_hold_rate_radps:
+                st[S_M2B_GATE] = 1.0
+            elif st[S_M2B_GATE] > 0.5 and tw > db:
+                st[S_M2B_GATE] = 0.0
+            gate = st[S_M2B_GATE] > 0.5
+        if gate:
             cap = max(st[S_L6_TRAPPED + s], 0.0) + PRESSURE_MARGIN_PA
             if st[S_REAR_CAP] < 0.0 or st[S_REAR_CAP] > cap:
                 st[S_REAR_CAP] = cap

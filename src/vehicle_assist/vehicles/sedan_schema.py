@@ -455,8 +455,10 @@ class SedanBlowoutCompensation(Strict):
     # blown rear released, the compensating side's front braked); 0 = the code before (the rule acts under code 5 too)
     blown_side_spin_front_flag: Annotated[int, Field(ge=0, le=1)] = 0
     # (session m M2) blown_side_fault_flag's premises for a blown FRONT whose side's REAR inlet is stuck closed: 2 the rear
-    # pair select-low on pressure while the yaw error points away from the blown side; 1 (candidate, worse) the stand-down
-    blown_side_front_flag: Annotated[int, Field(ge=0, le=2)] = 2
+    # pair select-low on pressure while the yaw error points away from the blown side; 3 (shipped, M2b) = 2 with a
+    # hysteresis on that gate (open beyond esp.yaw_hold_rate away, closed beyond the dead band toward); 1 (candidate,
+    # worse) the stand-down
+    blown_side_front_flag: Annotated[int, Field(ge=0, le=3)] = 3
     # (session m, M1) the DIAGONAL fault: a blown REAR whose OTHER side's FRONT inlet is diagnosed stuck closed, the
     # driver braking: 1 = the ESP's yaw-moment limitation (K2's substitute_yaw_limit) on the blown side's front, judged
     # against the stuck front, while the stuck front holds < esp.plausibility_pressure; 2 = 1 except with the

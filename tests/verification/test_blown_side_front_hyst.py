@@ -1,0 +1,71 @@
+"""M2b (session 2026-11-24 m): ``blowout_compensation.blown_side_front_flag`` = 3, value 2's gate with a hysteresis
+from the ESP's own numbers (tire_blowout_findings.md M2b). Value 2 holds the free rear select-low while the yaw error
+(steered reference) points AWAY from the blown side beyond the dead band (1 deg/s); value 3 opens that gate beyond
+esp.yaw_hold_rate (2 deg/s, the ESP's threshold for holding a wheel whose brake yaws the car) and keeps it open until
+the error points TOWARD the blown side beyond the dead band.
+
+* #154 of RM2's targeted search (tire_blowout_faults, random seed 31, -R wheel=fl,fr -R
+  fault=inlet_stuck_rl,inlet_stuck_rr -R braking=brakes): FL blown, RL stuck at 0.83 s, left curve r650, 118 km/h, mu
+  0.43, pedal 0.28 from 1.87 s. The yaw error stays at the dead band's edge (-0.017..+0.006 rad/s); value 2's gate
+  toggles and the run is worse than the twin (0.786 vs 0.698 m; flag 0 0.633) - RM2's one new violation. The error
+  never reaches the ESP's hold rate, so value 3 must run as flag 0 (the code before) bit for bit.
+* #137 (RM2's straight panic-stop point, FL blown, RL stuck) and its mirror: flag 0 is worse than the twin (2.579 vs
+  1.559, 2.693 vs 1.636 m); the rule at the shipped value must not be.
+
+References: the twin with the same fault, flag 0 (the rule's statement: no gate opening = the code before), mirror
+symmetry. No bound from the function's output.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import vehicle_assist as va
+from vehicle_assist.verification.envelope import load_envelope
+
+METRIC = "blowout_lateral_deviation_run_max_m"
+FLAG = "vehicle.blowout_compensation.blown_side_front_flag"
+P137 = {"speed": 107.88547227990549, "mu": 0.39587181487179507, "delay": 0.1390145640381683,
+        "wheel_speed_noise": 0.05989837280799076, "noise_seed": 7312.0, "brake_gain": 0.8614811935741586,
+        "accumulator": 79.45826501242345, "brake.start_s": 1.172291511067692, "brake.level_frac": 0.4719536490265265,
+        "brake.rate_per_s": 28.995197032457792, "braking": "brakes", "wheel": "fl", "driver": "fixed",
+        "curve": "straight", "fault": "inlet_stuck_rl", "fault_time": 0.0}  # test_review_rm2.py
+P137_MIRROR = dict(P137, wheel="fr", fault="inlet_stuck_rr")
+P154 = {"speed": 118.08872364151854, "mu": 0.4327935802435737, "delay": 0.46127769975312033,
+        "wheel_speed_noise": 0.13343547315455775, "noise_seed": 8069.0, "brake_gain": 1.155966543407795,
+        "accumulator": 117.75232760057793, "fault_time": 0.826420421346211, "brake.start_s": 1.8736846248035315,
+        "brake.level_frac": 0.27990528420174865, "brake.rate_per_s": 9.32615058135725, "braking": "brakes",
+        "wheel": "fl", "driver": "fixed", "curve": "r650", "fault": "inlet_stuck_rl"}
+
+
+def _run(env, point, flag=None, baseline=False):
+    sc = env.scenario(point, baseline=baseline)
+    return va.simulate(sc.with_sets(f"{FLAG}={flag}") if flag is not None else sc, requirements=False)
+
+
+@pytest.fixture(scope="module")
+def runs():
+    env = load_envelope("tire_blowout_faults")
+    out = {"154": {"shipped": _run(env, P154), "defect": _run(env, P154, 0), "none": _run(env, P154, baseline=True)}}
+    for name, pt in (("137", P137), ("137m", P137_MIRROR)):
+        out[name] = {"shipped": _run(env, pt), "none": _run(env, pt, baseline=True)}
+    return out
+
+
+@pytest.mark.parametrize("name", ["154", "137", "137m"])
+def test_never_worse_at_the_shipped_flags(runs, name):
+    """Never worse than the car without the function with the same fault. Value 2: #154 0.786 vs twin 0.698 m (fails);
+    flag 0: #137 2.579 vs 1.559, mirror 2.693 vs 1.636 m (fails)."""
+    on, none = runs[name]["shipped"].metrics[METRIC], runs[name]["none"].metrics[METRIC]
+    assert on <= none, (name, on, none)
+
+
+def test_154_gate_never_opens_so_the_code_before(runs):
+    """The rule's statement: the yaw error at #154 stays inside the ESP's hold rate (-0.017..+0.006 rad/s against
+    0.035), so value 3 never opens its gate and must run as flag 0 (the code before) bit for bit. Value 2 does not:
+    its dead-band gate opens at the edge (0.786 vs 0.633 m)."""
+    r = runs["154"]["shipped"]
+    for w in ("fl", "fr", "rl", "rr"):
+        assert np.array_equal(np.asarray(r.trace[f"wheel_pressure_{w}_pa"]),
+                              np.asarray(runs["154"]["defect"].trace[f"wheel_pressure_{w}_pa"])), w
+    assert r.metrics[METRIC] == runs["154"]["defect"].metrics[METRIC]
