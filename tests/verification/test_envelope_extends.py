@@ -50,7 +50,7 @@ def test_user_variant_replaces_one_dimension_keeps_the_rest(tmp_path):
 
 
 @pytest.mark.parametrize("body, needle", [
-    ('extends = "no_such_envelope"', "no shipped envelope named 'no_such_envelope'"),
+    ('extends = "no_such_envelope"', "extends = 'no_such_envelope': no shipped envelope named 'no_such_envelope'"),
     ("extends = 3", "give the base envelope"),
     ('extends = ""', "give the base envelope"),
     ('extends = "self.toml"', "cycle"),

@@ -652,7 +652,10 @@ def _resolve_extends(path: Path, raw: dict, chain: tuple[str, ...] = ()) -> dict
     if len(chain) >= EXTENDS_DEPTH_MAX:
         raise InputError(f"{where}: more than {EXTENDS_DEPTH_MAX} envelopes extend each other ({' -> '.join(chain)})")
     local = path.parent / target
-    base_path, base_raw = _read_envelope_raw(local if target.endswith(".toml") and local.exists() else target)
+    try:
+        base_path, base_raw = _read_envelope_raw(local if target.endswith(".toml") and local.exists() else target)
+    except InputError as exc:
+        raise InputError(f"{where} = {target!r}: {exc}") from None
     key = str(base_path.resolve())
     if key in chain or base_path.resolve() == path.resolve():
         raise InputError(f"{where} = {target!r}: the envelopes extend each other in a cycle")
