@@ -67,3 +67,12 @@ def test_cycle_of_two(tmp_path):
     _write(tmp_path / "b.toml", 'name = "b"\nextends = "a.toml"\n')
     with pytest.raises(InputError, match="cycle"):
         load_envelope(tmp_path / "a.toml")
+
+
+def test_a_choice_replaced_by_a_range_of_the_same_name(tmp_path):
+    """final read (session m): a dimension given in another table replaces the base's too (no choice and range both named curve)."""
+    f = _write(tmp_path / "radius.toml", 'name = "radius"\nextends = "tire_blowout"\n[ranges.curve]\npath = '
+               '"vehicle.lane_keeper.lane_radius_m"\nmin = 650\nmax = 1000\nsource = "test: left radii as a range"\n')
+    env = load_envelope(f)
+    assert "curve" not in env.model.choices and (env.model.ranges["curve"].min, env.model.ranges["curve"].max) == (650, 1000)
+    assert sum(d.name == "curve" for d in env.dims) == 1

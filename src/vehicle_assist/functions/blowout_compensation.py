@@ -377,8 +377,9 @@ S_L6_TRAPPED = S_SUB_HOLD + 1
 # that LIMITED episode)
 S_M7_ERR0 = S_L6_TRAPPED + 4
 S_M7_SET = S_M7_ERR0 + 1
-# (blown_side_front_flag 3, session m M2b) 1 = the free rear's select-low gate is open (opened when the yaw error points
-# away from the blown side beyond esp.yaw_hold_rate, closed only beyond the dead band toward the blown side); 0 = closed
+# (blown_side_front_flag 3, session m M2b) the blown wheel + 1 while the free rear's select-low gate is open for it (opened
+# when the yaw error points away from the blown side beyond esp.yaw_hold_rate, closed beyond the dead band toward the
+# blown side or when the rule stands aside, e.g. the pedal released); 0 = closed
 S_M2B_GATE = S_M7_SET + 1
 STATE_SIZE = S_M2B_GATE + 1
 # (heading_return_line_flag, session k K3) the fraction of the other front's pressure the heading return may take off the
@@ -1769,6 +1770,7 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
     if stand_aside:
         if st[S_LIMIT_CODE] == LIMIT_BLOWN_SIDE:
             st[S_LIMIT_CODE] = LIMIT_NONE
+        st[S_M2B_GATE] = 0.0  # (value 3) a new pedal application starts with the gate closed (final read, session m)
         return
     if p.blowout_compensation_blown_side_fault_flag > 2.5 and st[S_L6_TRAPPED + s] >= p.esp_plausibility_pressure_pa:
         return  # (value 3) the stuck front holds a brake: the side is not unbraked, the paper's release stands
@@ -1791,11 +1793,13 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
         db = p.blowout_compensation_yaw_deadband_radps
         gate = tw < -db
         if p.blowout_compensation_blown_side_front_flag > 2.5:
+            # the slot holds the blown wheel + 1 it was opened for: a later detection of another wheel (the sign of
+            # toward_blown_side flips) does not inherit it (final read, session m)
             if tw < -p.esp_yaw_hold_rate_radps:
-                st[S_M2B_GATE] = 1.0
+                st[S_M2B_GATE] = b + 1.0
             elif st[S_M2B_GATE] > 0.5 and tw > db:
                 st[S_M2B_GATE] = 0.0
-            gate = st[S_M2B_GATE] > 0.5
+            gate = st[S_M2B_GATE] == b + 1.0
         if gate:
             cap = max(st[S_L6_TRAPPED + s], 0.0) + PRESSURE_MARGIN_PA
             if st[S_REAR_CAP] < 0.0 or st[S_REAR_CAP] > cap:
@@ -1840,12 +1844,14 @@ def diagonal_fault(st, b, tg, mode, braking, inlet_ok, yaw_err, p_est, requests,
     (S_L6_TRAPPED, the ECU's line estimate when its inlet was first diagnosed stuck, recorded with this flag on too)
     below esp.plausibility_pressure; a front stuck while the driver brakes (L3's fault_time) keeps its brake and the
     front pair is not one-sided.
-    Value 2 (shipped): value 1 except with the sideslip phase-plane state outside the stable region
+    Value 2: value 1 except with the sideslip phase-plane state outside the stable region
     (``phase_plane_unstable``, L2's gate in ``front_substitute_rear``): there the car already rotates on a saturated
     rear axle and is refused moments later; releasing the braked front only kept its speed up, and a spinning car's
     lateral excursion grows with its speed (faultsT t_r41 #346, RR blown, FL stuck at 0.07 s, mu 0.31, 116 km/h, pedal
     at 2.44 s: the car beyond the stable region at the pedal, FR held at 2.4 bar against the twin's 20-37 until the
-    refusal at 2.73 s; 14.999 m against the twin's 14.768 - a new violation at value 1, +0.346 at 0 and 2)."""
+    refusal at 2.73 s; 14.999 m against the twin's 14.768 - a new violation at value 1, +0.346 at 0 and 2).
+    Value 3 (shipped, review RM1): value 2 except in a curve steered toward the blown side (``front_substitute_rear``'s
+    curve gate): RM1's targeted t97 #64 (RL blown, FR stuck, 650 m left curve) +0.150 at 0, -0.545 at 2, +0.150 at 3."""
     if b < 2 or braking < 0.5:
         return
     w = b - 2  # the blown side's front

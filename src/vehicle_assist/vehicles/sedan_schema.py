@@ -464,7 +464,7 @@ class SedanBlowoutCompensation(Strict):
     # against the stuck front, while the stuck front holds < esp.plausibility_pressure; 2 = 1 except with the
     # sideslip phase plane unstable (L2's gate); 3 (shipped, review RM1) = 2 except in a curve steered toward the blown
     # side (L2's curve gate); 0 = the code before (findings M1, RM1)
-    diagonal_fault_flag: Annotated[int, Field(ge=0, le=3)] = 0
+    diagonal_fault_flag: Annotated[int, Field(ge=0, le=3)] = 3
 
     @model_validator(mode="after")
     def _order(self):

@@ -640,9 +640,9 @@ def _read_envelope_raw(name_or_path: str | Path) -> tuple[Path, dict]:
 def _resolve_extends(path: Path, raw: dict, chain: tuple[str, ...] = ()) -> dict:
     """An envelope with ``extends = "NAME"`` (a shipped envelope, or a .toml path relative to this file) is that
     envelope with this file's keys on top: a top-level key replaces the base's, and a dimension of ``ranges``,
-    ``choices`` or ``profiles`` replaces the base's dimension of the same name WHOLE (its options, bounds and source),
-    the others staying as in the base, in the base's order - so a variant (e.g. the same envelope in right-hand
-    curves) states only what differs and cannot drift from its base."""
+    ``choices`` or ``profiles`` replaces the base's dimension of the same name WHOLE (its options, bounds and source; in
+    whichever of the three tables the base had it), the others staying as in the base, in the base's order - so a
+    variant (e.g. the same envelope in right-hand curves) states only what differs and cannot drift from its base."""
     if "extends" not in raw:
         return raw
     target = raw["extends"]
@@ -661,6 +661,11 @@ def _resolve_extends(path: Path, raw: dict, chain: tuple[str, ...] = ()) -> dict
         raise InputError(f"{where} = {target!r}: the envelopes extend each other in a cycle")
     base_raw = _resolve_extends(base_path, base_raw, chain + (str(path.resolve()), ))
     merged = dict(base_raw)
+    given = {t: set(raw[t]) for t in DIMENSION_TABLES if isinstance(raw.get(t), dict)}
+    for t in DIMENSION_TABLES:  # a name given in another table (a choice turned into a range) leaves this one
+        other = set().union(*(names for u, names in given.items() if u != t))
+        if other and isinstance(merged.get(t), dict):
+            merged[t] = {name: spec for name, spec in merged[t].items() if name not in other}
     for k, v in raw.items():
         if k == "extends":
             continue
