@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 from vehicle_assist.functions import blowout_compensation as bc
+from tests.support import packed_params
 
 BAR = 1.0e5
 FRONT_SUBSTITUTE = {0: 3, 1: 2}  # blown front -> substitute rear (the rear on the OTHER side)
@@ -29,13 +30,8 @@ SIGN = {0: 1.0, 1: -1.0}  # CCW + quantities toward the blown side: + for FL (le
 
 
 def _params(flag):
-    import vehicle_assist as va
-    from vehicle_assist.scenarios.runner import pack_records
-
-    sc = va.load_scenario("blowout_lf_60kph_paper")
-    if flag is not None:
-        sc = sc.with_sets("vehicle.blowout_compensation.front_substitute_rear_flag=%d" % flag)
-    return pack_records([sc.vehicle.flat()])[0]
+    sets = () if flag is None else ("vehicle.blowout_compensation.front_substitute_rear_flag=%d" % flag,)
+    return packed_params("blowout_lf_60kph_paper", *sets)
 
 
 def _episode(flag, b, err0_frac, err1_frac, curve_toward):

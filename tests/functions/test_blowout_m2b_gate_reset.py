@@ -10,16 +10,13 @@ from __future__ import annotations
 import numpy as np
 
 from vehicle_assist.functions import blowout_compensation as bc
+from tests.support import packed_params
 
 BAR = 1.0e5
 
 
 def _params():
-    import vehicle_assist as va
-    from vehicle_assist.scenarios.runner import pack_records
-
-    sc = va.load_scenario("blowout_lf_60kph_paper")
-    return pack_records([sc.vehicle.flat()])[0]
+    return packed_params("blowout_lf_60kph_paper")
 
 
 def _call(st, p, b, braking, yaw_err):

@@ -20,8 +20,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import vehicle_assist as va
 from vehicle_assist.verification.envelope import load_envelope
+from tests.support import envelope_point_run
 
 METRIC = "blowout_lateral_deviation_run_max_m"
 FLAG = "vehicle.blowout_compensation.blown_side_front_flag"
@@ -39,8 +39,7 @@ P154 = {"speed": 118.08872364151854, "mu": 0.4327935802435737, "delay": 0.461277
 
 
 def _run(env, point, flag=None, baseline=False):
-    sc = env.scenario(point, baseline=baseline)
-    return va.simulate(sc.with_sets(f"{FLAG}={flag}") if flag is not None else sc, requirements=False)
+    return envelope_point_run(env, point, baseline, (f"{FLAG}={flag}",) if flag is not None else ())
 
 
 @pytest.fixture(scope="module")

@@ -19,8 +19,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import vehicle_assist as va
 from vehicle_assist.verification.envelope import load_envelope
+from tests.support import envelope_point_run
 
 METRIC = "blowout_lateral_deviation_run_max_m"
 ON = ("vehicle.blowout_compensation.blown_side_fault_flag=1",)
@@ -37,8 +37,7 @@ P360 = {"speed": 63.136574275141896, "mu": 0.34681190240008497, "delay": 0.16104
 
 
 def _run(env, baseline=False, sets=()):
-    sc = env.scenario(P360, baseline=baseline)
-    return va.simulate(sc.with_sets(*sets) if sets else sc, requirements=False)
+    return envelope_point_run(env, P360, baseline, sets)
 
 
 @pytest.fixture(scope="module")
@@ -107,9 +106,7 @@ P219 = {"speed": 72.88106304974644, "mu": 0.5857436703468413, "delay": 0.4272510
         "wheel": "rr", "driver": "fixed", "curve": "straight", "fault": "inlet_stuck_fr"}
 
 
-def _run_pt(env, pt, baseline=False, sets=()):
-    sc = env.scenario(pt, baseline=baseline)
-    return va.simulate(sc.with_sets(*sets) if sets else sc, requirements=False)
+_run_pt = envelope_point_run  # tests/support.py
 
 
 @pytest.fixture(scope="module")

@@ -26,8 +26,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import vehicle_assist as va
 from vehicle_assist.verification.envelope import load_envelope
+from tests.support import envelope_point_run
 
 METRIC = "blowout_lateral_deviation_run_max_m"
 FLAG = "vehicle.blowout_compensation.blown_side_front_flag"
@@ -47,9 +47,7 @@ P17 = {"speed": 76.59405585105739, "mu": 0.3313080807561882, "delay": 0.38131142
        "curve": "straight", "fault": "inlet_stuck_rr", "fault_time": 0.0}
 
 
-def _run(env, point, baseline=False, sets=()):
-    sc = env.scenario(point, baseline=baseline)
-    return va.simulate(sc.with_sets(*sets) if sets else sc, requirements=False)
+_run = envelope_point_run  # tests/support.py
 
 
 @pytest.fixture(scope="module")

@@ -20,6 +20,7 @@ import pytest
 
 import vehicle_assist as va
 from vehicle_assist.verification.envelope import load_envelope
+from tests.support import envelope_point_run
 
 METRIC = "blowout_lateral_deviation_run_max_m"
 ON = ("vehicle.blowout_compensation.diagonal_fault_flag=3",)  # shipped (review RM1: value 2 + L2's curve gate)
@@ -63,9 +64,7 @@ P346 = {"speed": 116.20362655127988, "mu": 0.3113307397311291, "delay": 0.335371
         "curve": "straight", "fault": "inlet_stuck_fl", **_COMMON}
 
 
-def _run(env, point, baseline=False, sets=()):
-    sc = env.scenario(point, baseline=baseline)
-    return va.simulate(sc.with_sets(*sets) if sets else sc, requirements=False)
+_run = envelope_point_run  # tests/support.py
 
 
 @pytest.fixture(scope="module")

@@ -19,8 +19,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import vehicle_assist as va
 from vehicle_assist.verification.envelope import load_envelope
+from tests.support import envelope_point_run
 
 METRIC = "blowout_lateral_deviation_run_max_m"
 DEFECT = ("vehicle.blowout_compensation.front_substitute_rear_flag=0",)  # the code before
@@ -34,9 +34,7 @@ P24 = {"speed": 116.9448308991426, "mu": 0.6678977319661067, "delay": 0.21999346
 PAIR_MARGIN_PA = 3.0e5  # the rule's 1-bar dump margin plus one period of the pump's build (plant pressure, not the ECU's)
 
 
-def _run(env, point, baseline=False, sets=()):
-    sc = env.scenario(point, baseline=baseline)
-    return va.simulate(sc.with_sets(*sets) if sets else sc, requirements=False)
+_run = envelope_point_run  # tests/support.py
 
 
 @pytest.fixture(scope="module")

@@ -17,8 +17,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import vehicle_assist as va
 from vehicle_assist.verification.envelope import load_envelope
+from tests.support import envelope_point_run
 
 METRIC = "blowout_lateral_deviation_run_max_m"
 BEFORE = ("vehicle.blowout_compensation.front_substitute_rear_flag=1",)  # L2's curve gate, the code before
@@ -58,9 +58,7 @@ def env():
     return load_envelope("tire_blowout_faults")
 
 
-def _run(env, point, baseline=False, sets=()):
-    sc = env.scenario(point, baseline=baseline)
-    return va.simulate(sc.with_sets(*sets) if sets else sc, requirements=False)
+_run = envelope_point_run  # tests/support.py
 
 
 def _refused(r):

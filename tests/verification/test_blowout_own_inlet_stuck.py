@@ -18,8 +18,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import vehicle_assist as va
 from vehicle_assist.verification.envelope import load_envelope
+from tests.support import envelope_point_run
 
 METRIC = "blowout_lateral_deviation_run_max_m"
 ON = ("vehicle.blowout_compensation.own_stuck_front_flag=1",)
@@ -41,9 +41,7 @@ P326 = {"speed": 71.5990680704326, "mu": 0.39603249543977337, "delay": 0.3872402
 PAIR_MEAN_BOUND_PA = 10.0e5
 
 
-def _run(env, point, baseline=False, sets=()):
-    sc = env.scenario(point, baseline=baseline)
-    return va.simulate(sc.with_sets(*sets) if sets else sc, requirements=False)
+_run = envelope_point_run  # tests/support.py
 
 
 @pytest.fixture(scope="module")

@@ -659,6 +659,13 @@ def toward_blown_side(blown, value):
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
+def curve_toward_blown_side(blown, r_ref, p):
+    """The driver steers a curve toward the blown wheel's side: the steered reference yaw rate ``r_ref`` points toward
+    it by more than the yaw dead band (the gate of several rules: the inner front held, the inner rear not released)."""
+    return toward_blown_side(blown, r_ref) > p.blowout_compensation_yaw_deadband_radps
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
 def valve_pressure_pa(t, p_max_pa, t0_s, t1_s, t2_s):
     """Eq. (29): wheel pressure t seconds after the inlet valve is energised (two linear segments)."""
     p1 = 0.45 * p_max_pa
@@ -1863,7 +1870,7 @@ def diagonal_fault(st, b, tg, mode, braking, inlet_ok, yaw_err, p_est, requests,
     if p.blowout_compensation_diagonal_fault_flag > 1.5 and phase_plane_unstable(st[S_BETA_EST], st[S_BETA_DOT], p):
         return  # (value 2) L2's phase-plane gate: beyond the stable region the front's release only keeps the speed up
     if (p.blowout_compensation_diagonal_fault_flag > 2.5
-            and toward_blown_side(b, r_ref) > p.blowout_compensation_yaw_deadband_radps):
+            and curve_toward_blown_side(b, r_ref, p)):
         return  # (value 3, RM1) L2's curve gate: a curve steered toward the blown side (front_substitute_rear's gate)
     if mode == BUILD or mode == HOLD or mode == LIMITED:
         substitute_yaw_limit(b, o, yaw_err, p_est, requests, p, st)
@@ -1902,7 +1909,7 @@ def front_substitute_rear(b, tg, braking, yaw_err, r_ref, p_est, requests, p, st
     if braking < 0.5:
         return
     # the curve gate: in a curve steered toward the blown side the inner rear is held, not released
-    curve_ok = toward_blown_side(b, r_ref) <= p.blowout_compensation_yaw_deadband_radps
+    curve_ok = not curve_toward_blown_side(b, r_ref, p)
     if p.blowout_compensation_front_substitute_rear_flag > 1.5:
         # (value 2, M7) the gate's premise checked: a rotation already under way when the rear pair began to brake -
         # the yaw error toward the blown side (net of the steered reference) beyond esp.yaw_dump_rate at the first
@@ -2150,7 +2157,7 @@ def blown_front_hold(st, b, tg, mode, braking, yaw_rate, r_ref, requests, p):
         # floor holds it below that level, and that is why ABS is quiet on it (tire_blowout_findings.md H8: false FL alarm, FR
         # held at 0.8 x lock, ABS quiet 0.3 s later, the healthy FL let go three times: 0.856 m, 0.744 m with the rule)
         return
-    if toward_blown_side(b, r_ref) <= p.blowout_compensation_yaw_deadband_radps:
+    if not curve_toward_blown_side(b, r_ref, p):
         return  # not a turn toward the blown side
     toward = toward_blown_side(b, yaw_rate)
     if toward > 0.0:
@@ -2343,7 +2350,7 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
     p_floor = p_bal  # the floor while the yaw points away from the blown side
     if p.blowout_compensation_braking_lock_floor_flag > 0.5:
         p_lock = braking_lock_floor(st, tg, p_bal, p_est, p)  # tracks the lock level every period
-        if toward_blown_side(b, r_ref) > p.blowout_compensation_yaw_deadband_radps and (
+        if curve_toward_blown_side(b, r_ref, p) and (
                 p.blowout_compensation_blown_front_hold_flag > 0.5
                 or p.blowout_compensation_braking_lock_premise_flag < 0.5):
             # a curve toward the blown side: its inner front held, not released (blown_front_hold); (braking_lock_
@@ -2371,7 +2378,7 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
             # low pair: no moment), the oversteer caps below still act
             st[S_REAR_CAP] = -1.0
             if (p.blowout_compensation_rear_accel_circle_flag > 0.5
-                    and toward_blown_side(b, r_ref) > p.blowout_compensation_yaw_deadband_radps):
+                    and curve_toward_blown_side(b, r_ref, p)):
                 # (rear_accel_circle_flag, 0 = seeded defect = no cap) a curve toward the blown side (the blown front
                 # is the INNER one): the flat's diagonal load transfer unloads the OUTER rear, which carries the larger
                 # share of the rear lateral force, and under the select-low pair it is the wheel ABS runs at its lock
