@@ -18,6 +18,17 @@ from vehicle_assist.metrics.common import Metric, register, row_metric
 LANE_WIDTH_M = 3.75  # std: JTG B01-2014
 CAR_WIDTH_M = 1.794  # cite:J2500 (tire_blowout.md 7)
 LANE_MARGIN_M = 0.5 * (LANE_WIDTH_M - CAR_WIDTH_M)
+# Road edge (session n): the car's edge reaches the edge of the paved road when its offset exceeds the lane margin plus a
+# hard shoulder. SHOULDER_M is assumed 3.0 m: the general value of an expressway's right hard shoulder at 100-120 km/h in
+# JTG B01-2014 as recalled (the standard's table could not be re-read here; its minimum value is smaller, so 3.0 m is
+# the generous end: a car is judged off the road later, not earlier). The same on the left, where the adjacent lane
+# (3.75 m) or the median's shoulder lies: the deviation metric is unsigned (tire_blowout.md 9.5).
+SHOULDER_M = 3.0
+ROAD_EDGE_M = LANE_MARGIN_M + SHOULDER_M
+# the earliness of a road departure is counted back from this horizon: the braking points' run cap of the blowout
+# envelopes (data/envelopes/tire_blowout.toml, choices.braking); any constant beyond every run's length gives the same
+# verdicts, it only sets the margin when one of the two cars stays on the road
+ROAD_HORIZON_S = 30.0
 YAW_WINDOW_S = 2.0  # tire_blowout.md 9.5
 PATH_TIME_S = 3.0  # tire_blowout.md 9.5
 DEFAULT_BLOWOUT_S = 1.0
@@ -72,6 +83,35 @@ def _dev_run(t, phi, mode, e):
     tb = blowout_time_s(t, phi, mode)
     w = t >= tb - 1e-9
     return float(np.max(np.abs(e[w] - _at(t, e, tb)))) if np.any(w) else 0.0
+
+
+def _road_departure_index(t, phi, mode, e):
+    """(t_b, index of the first sample from t_b on with |lane offset| beyond ROAD_EDGE_M, or -1)."""
+    tb = blowout_time_s(t, phi, mode)
+    k = np.flatnonzero((t >= tb - 1e-9) & (np.abs(e) > ROAD_EDGE_M))
+    return tb, (int(k[0]) if k.size else -1)
+
+
+def _dev_road(t, phi, mode, e):
+    """The lateral deviation while the car is on the road (session n): max |lane offset change since t_b| over the run,
+    at most ROAD_EDGE_M, and exactly ROAD_EDGE_M once the car has left the road (|offset| beyond the lane margin + the
+    hard shoulder). How far a car travels beyond the road's edge depends on what lies there, not on the function: at the
+    full stop of a braking point a twin that spun 7 m off the road ranked better than a function car that left the road
+    2 s later and rolled on 40 m (status m item 1). Which of two cars leaves the road first is judged by
+    ``_road_departure_earliness``."""
+    _, k = _road_departure_index(t, phi, mode, e)
+    if k >= 0:
+        return float(ROAD_EDGE_M)
+    return min(_dev_run(t, phi, mode, e), float(ROAD_EDGE_M))
+
+
+def _road_departure_earliness(t, phi, mode, e):
+    """How early the car leaves the road [s]: ROAD_HORIZON_S - (t_departure - t_b), 0 if it stays on the road (smaller
+    is better: the later, the smaller; a comparative requirement compares it with the twin's)."""
+    tb, k = _road_departure_index(t, phi, mode, e)
+    if k < 0:
+        return 0.0
+    return float(max(0.0, ROAD_HORIZON_S - (t[k] - tb)))
 
 
 def _departure(t, phi, mode, e):
@@ -206,6 +246,12 @@ _DEFS = [
     ("blowout_lateral_deviation_max_m", _dev_max, _BASE + ("lane_offset_m",), "max |lane offset change| in [t_b, t_b + 3 s]"),
     ("blowout_lateral_deviation_run_max_m", _dev_run, _BASE + ("lane_offset_m",),
      "max |lane offset change| from t_b to the end of the run"),
+    ("blowout_lateral_deviation_road_max_m", _dev_road, _BASE + ("lane_offset_m",),
+     "max |lane offset change| from t_b to the end of the run while on the road: at most, and once the car is beyond "
+     "the road edge (lane margin + 3.0 m hard shoulder) exactly, lane margin + shoulder"),
+    ("blowout_road_departure_earliness_s", _road_departure_earliness, _BASE + ("lane_offset_m",),
+     "30 s - (time the car first leaves the road - t_b), 0 if it stays on the road (road edge: lane margin + 3.0 m "
+     "hard shoulder)"),
     ("blowout_heading_error_3s_rad", _dev_3s, _BASE + ("lane_heading_error_rad",), "|heading error change| at t_b + 3 s"),
     ("blowout_lane_departure_flag", _departure, _BASE + ("lane_offset_m",),
      "1 if the offset exceeds (3.75 m lane - 1.794 m car)/2 within 3 s"),
