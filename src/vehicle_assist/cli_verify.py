@@ -94,7 +94,7 @@ def _session(scheduler: str | None, n_runs: int, envelope: str, sets: list[str])
 
 
 # the files in data/envelopes (a test keeps this list equal to them; reading the folder here would slow --help)
-SHIPPED_ENVELOPES = "brake_assist, curve_shift, hill_start_amt, hill_start_ehb, tire_blowout, tire_blowout_closed_loop, tire_blowout_false_alarm, tire_blowout_false_alarm_right, tire_blowout_faults, tire_blowout_right"
+SHIPPED_ENVELOPES = "brake_assist, curve_shift, hill_start_amt, hill_start_ehb, tire_blowout, tire_blowout_closed_loop, tire_blowout_false_alarm, tire_blowout_false_alarm_right, tire_blowout_faults, tire_blowout_faults_right, tire_blowout_right"
 RESTRICT_HELP = ("narrow a dimension for every point (repeatable): NAME=LO..HI, NAME=VALUE (pinned) or "
                  "NAME=OPTION[,OPTION...], e.g. braking=brakes")
 

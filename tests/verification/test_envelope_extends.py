@@ -16,7 +16,8 @@ from vehicle_assist.verification.envelope import load_envelope, shipped_envelope
 
 
 @pytest.mark.parametrize("variant, base", [("tire_blowout_right", "tire_blowout"),
-                                           ("tire_blowout_false_alarm_right", "tire_blowout_false_alarm")])
+                                           ("tire_blowout_false_alarm_right", "tire_blowout_false_alarm"),
+                                           ("tire_blowout_faults_right", "tire_blowout_faults")])
 def test_right_curve_variant_is_its_base_with_the_curve_mirrored(variant, base):
     raw_base = tomllib.loads(shipped_envelopes()[base].read_text(encoding="utf-8"))
     env = load_envelope(variant, validate=False)

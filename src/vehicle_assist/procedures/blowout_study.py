@@ -303,7 +303,10 @@ def falsify_extra(out_dir: Path):
 
     figures, entries = [], []
     # the paper's feed-forward (the shipped default), then the optional closed loop over the same envelope
-    for env, rid in (("tire_blowout", "tire_blowout.no_worse_than_no_compensation"), ("tire_blowout", "tire_blowout.stay_in_lane"),
+    for env, rid in (("tire_blowout", "tire_blowout.no_worse_than_no_compensation"),
+                     # session n: the road-departure half of never-worse (which car leaves the road first)
+                     ("tire_blowout", "tire_blowout.no_earlier_road_departure"),
+                     ("tire_blowout", "tire_blowout.stay_in_lane"),
                      ("tire_blowout_closed_loop", "tire_blowout.no_worse_than_no_compensation"),
                      ("tire_blowout_closed_loop", "tire_blowout.stay_in_lane"),
                      # issue #10 'Faults': a FALSE TPMS alarm (no blowout) over data/envelopes/tire_blowout_false_alarm.toml
@@ -315,7 +318,8 @@ def falsify_extra(out_dir: Path):
                      # tire_blowout_faults.toml: the same blowout envelope with one fault in BOTH runs (an inlet fault
                      # from its fault_time 0 .. 4 s, session l L3; the twin has the same fault at the same time): never
                      # worse than the car without the function
-                     ("tire_blowout_faults", "tire_blowout.no_worse_than_no_compensation")):
+                     ("tire_blowout_faults", "tire_blowout.no_worse_than_no_compensation"),
+                     ("tire_blowout_faults", "tire_blowout.no_earlier_road_departure")):
         res = run_falsification(env, rid, budget=FALSIFY_BUDGET, seed=FALSIFY_SEED, optimizer="cma", batch=8,
                                 progress=False)
         paths = write_falsification(res, Path(out_dir) / f"falsify_{env}_{rid.split('.')[-1]}")
