@@ -248,3 +248,19 @@ def packed_params(scenario: str, *sets: str):
     function's ``step`` directly: the sedan's ESP of hba_snow_60kph, the SUV's of the blowout scenarios)."""
     from vehicle_assist.scenarios.runner import pack_records
     return pack_records([va.load_scenario(scenario, list(sets)).vehicle.flat()])[0]
+
+
+# The two never-worse rows of tire_blowout (data/requirements/tire_blowout.toml, session n): the lateral deviation on the
+# road (blowout_lateral_deviation_road_max_m, clipped at the road edge) and the road departure's earliness
+# (blowout_road_departure_earliness_s). A test of "never worse than <reference run>" compares what the requirement
+# compares: both rows' comparative_robustness of the run against the reference run (the twin, or a flag-0 run).
+NEVER_WORSE_ROWS = ("tire_blowout.no_worse_than_no_compensation", "tire_blowout.no_earlier_road_departure")
+
+
+def never_worse_rows(run, reference) -> dict:
+    """{row id: robustness} of both never-worse rows, ``run`` judged against ``reference`` (>= 0: no worse in that
+    row; < 0: worse by that much, m in row 1, s in row 2)."""
+    from vehicle_assist.verification.requirements import comparative_robustness, get_requirement
+
+    return {rid.split(".")[1]: comparative_robustness(get_requirement(rid), run.metrics, reference.metrics)
+            for rid in NEVER_WORSE_ROWS}

@@ -132,11 +132,33 @@ def test_32_kept_compensation_no_worse_than_refused(runs32):
     """#32 (FL 107 km/h mu 0.43, 650 m curve toward FL, fixed steering, slow pedal): beyond the bound 0.12 s after the
     detection; kept by front_spin_keep_flag alone the yaw rose 0.267 -> 0.325 rad/s over 1 s, the spin was slowed but
     never arrested and the car slid farther: 10.098 m vs 5.431 m refused (the code before G5). With the arrest rule
-    refused once the rotation still grows after the time constant: 5.407 m. Reference: the code before G5 (refused)."""
-    assert runs32["on"].metrics[METRIC] <= runs32["refused"].metrics[METRIC] + 0.05
+    refused once the rotation still grows after the time constant: 5.407 m. Reference: the code before G5 (refused).
+    Session n (N1, class B, corrected): judged to standstill (13.8 s) both cars leave the road (unclipped run max 5.489
+    vs 5.431 m: a distance beyond the road edge, which the requirement no longer ranks), so the test compares what
+    tire_blowout's two never-worse rows compare: road deviation 3.978 = 3.978 m (tie, the +0.05 m margin of before
+    kept), the road departure 0.005 s LATER than refused (robustness +0.005 s)."""
+    from tests.support import never_worse_rows
+
+    rows = never_worse_rows(runs32["on"], runs32["refused"])
+    assert rows["no_worse_than_no_compensation"] >= -0.05, rows
+    assert rows["no_earlier_road_departure"] >= 0.0, rows
 
 
-@pytest.mark.xfail(strict=True, reason="random 7 b64 braking FL/FR #32: 5.407 m vs none 4.414 m (refused: 5.431 m, a "
-                   "violation before session g too: all three cars spin, heading 130-180 deg by 5 s)")
 def test_32_no_worse_than_without_compensation(runs32):
-    assert runs32["on"].metrics[METRIC] <= runs32["none"].metrics[METRIC]
+    """Row no_worse_than_no_compensation (road deviation). Session n (N1, class D): the strict xfail of before (5.407 m vs
+    none 4.414 m at 5 s, all three cars spinning) is gone under the new judgement: judged to standstill both cars leave
+    the road (run max 5.489 vs 10.548 m), the road deviation ties at the road edge 3.978 m (robustness 0). Which car left
+    first is the other row (next test)."""
+    from tests.support import never_worse_rows
+
+    assert never_worse_rows(runs32["on"], runs32["none"])["no_worse_than_no_compensation"] >= 0.0
+
+
+@pytest.mark.xfail(strict=True, reason="N1 (session n): random 7 b64 braking FL/FR #32 to standstill: the function's car "
+                   "leaves the road 0.18 s before the twin (earliness 27.025 vs 26.845 s; road deviation tie 3.978 m; "
+                   "run max 5.489 vs 10.548 m): the kept-then-refused front compensation does not arrest the spin "
+                   "toward FL, the car slides off the road first (all three cars spin)")
+def test_32_no_earlier_road_departure_than_without_compensation(runs32):
+    from tests.support import never_worse_rows
+
+    assert never_worse_rows(runs32["on"], runs32["none"])["no_earlier_road_departure"] >= 0.0

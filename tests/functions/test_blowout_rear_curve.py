@@ -86,14 +86,15 @@ def test_38_compensating_rear_keeps_the_drivers_pressure(runs38):
     assert _mean_bar(runs38["defect"], "wheel_pressure_rl_pa", 2.5, 4.5) < 0.2 * twin
 
 
-@pytest.mark.xfail(strict=True, reason="R2 targeted r29 #31: blown rear on the INSIDE of a curve the braking car already "
-                   "understeers in at the friction limit; the twin's flat inner rear (braked, its rim drag on top) turns it "
-                   "in, the balance removes that moment: 2.21 m vs none 0.57 m (the rule does not change it). tire_blowout.md "
-                   "'Session g, G4'")
 def test_31_no_worse_than_without_compensation(env):
-    on = envelope_point_run(env, P31).metrics[METRIC]
-    none = envelope_point_run(env, P31, baseline=True).metrics[METRIC]
-    assert on <= none, (on, none)
+    """Session n (N1, class D): the strict xfail of before (R2 targeted r29 #31, blown rear on the INSIDE of a curve the
+    braking car understeers in: 2.21 m vs none 0.57 m at 5 s; tire_blowout.md 'Session g, G4') is gone when both cars
+    are judged to standstill: road deviation 2.548 m (stopped 9.7 s) vs the twin's 3.085 m (stopped 9.8 s; its flat
+    inner rear's turn-in goes on after 5 s), both on the road (departure row 0 = 0). Both rows of the requirement."""
+    from tests.support import never_worse_rows
+
+    rows = never_worse_rows(envelope_point_run(env, P31), envelope_point_run(env, P31, baseline=True))
+    assert min(rows.values()) >= 0.0, rows
 
 
 # ---- the rule on hand-made values (bc.braking_rule dispatches a rear blowout to rear_braking_rule) -------------------

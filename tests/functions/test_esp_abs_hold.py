@@ -207,16 +207,22 @@ def blowout_env():
     return load_envelope("tire_blowout")
 
 
-@pytest.mark.xfail(strict=True, reason="J1: platform hold limit on both cars - #273 twin-only gain (twin 0.594 -> 0.350 m, "
-                   "compensated 0.488 unchanged); 83 #9 real loss (0.283 -> 0.411 vs twin 0.288)")
-@pytest.mark.parametrize("point", [P41_273, P83_9], ids=["random41_b512_273", "targeted83_9"])
+@pytest.mark.parametrize("point", [
+    P41_273,
+    pytest.param(P83_9, marks=pytest.mark.xfail(strict=True, reason=(
+        "J1: platform hold limit on both cars - 83 #9 real loss (0.283 -> 0.411 vs twin 0.288 at 5 s); to standstill "
+        "(N1, session n) 0.418 m vs the twin's 0.361 m (flag 0 on both: 0.283 vs 0.367), both on the road")))],
+    ids=["random41_b512_273", "targeted83_9"])
 def test_platform_hold_limit_no_worse_than_no_compensation(blowout_env, point):
-    from tests.support import envelope_point_metric
+    """Both never-worse rows with the platform hold limit (flag 1) on both cars. Session n (N1, class D for #273): the
+    strict xfail of before (#273 a twin-only gain at 5 s: twin 0.594 -> 0.350 m, compensated 0.488 m) is gone to
+    standstill: 0.504 m (stopped 9.3 s) vs the twin's 0.558 m (stopped 8.3 s), both on the road; 83 #9 stays xfail."""
+    from tests.support import envelope_point_run, never_worse_rows
 
     sets = (f"{FLAG}=1",)
-    on = envelope_point_metric(blowout_env, point, "blowout_lateral_deviation_run_max_m", sets=sets)
-    none = envelope_point_metric(blowout_env, point, "blowout_lateral_deviation_run_max_m", baseline=True, sets=sets)
-    assert on <= none, f"{on:.3f} vs none {none:.3f}"
+    rows = never_worse_rows(envelope_point_run(blowout_env, point, sets=sets),
+                            envelope_point_run(blowout_env, point, baseline=True, sets=sets))
+    assert min(rows.values()) >= 0.0, rows
 
 
 # The platform rule's own safety (brief: a safety function is never worse than without it): the car WITHOUT the blowout

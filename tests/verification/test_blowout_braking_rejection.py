@@ -32,6 +32,7 @@ from tests.support import envelope_point_metric
 from vehicle_assist.verification.envelope import load_envelope
 
 METRIC = "blowout_lateral_deviation_run_max_m"
+ROAD = "blowout_lateral_deviation_road_max_m"  # row no_worse_than_no_compensation (session n)
 RL_SEED23 = {"speed": 119.39563563443807, "mu": 0.4186664885826914, "delay": 0.39560516807119134,
              "wheel_speed_noise": 0.049908390411532756, "noise_seed": 5936, "brake_gain": 0.8733545627851009,
              "brake.start_s": 0.9847597428997881, "brake.level_frac": 0.21453458675326495,
@@ -65,11 +66,27 @@ def test_rl_blowout_braking_not_rejected_into_worse(env):
     assert _dev(env, RL_SEED23) < _dev(env, RL_SEED23, baseline=True)
 
 
+@pytest.mark.xfail(strict=True, reason=(
+    "N1 (session n): judged to standstill the defect (yaw_net_flag = 0) is no longer worse than no compensation: "
+    "1.469 m (stopped 9.2 s) vs the twin's 1.661 m (stopped 10.6 s; both on the road): the twin, still moving at 5 s "
+    "(1.19 m then), drifts on; the defect's 5-s loss (1.39 vs 1.19 m) was the window. The rule still beats the defect "
+    "(0.640 vs 1.469 m: next test)"))
 def test_rl_blowout_braking_defect_rejects_into_worse(env):
     """Negative control: with the seeded defect (yaw_net_flag = 0, the raw yaw as before) the same point is rejected
-    at t_b + 1.05 s and is worse than no compensation (1.39 vs 1.19 m) - the test above fails with the defect."""
+    at t_b + 1.05 s and is worse than no compensation (1.39 vs 1.19 m) - the test above fails with the defect.
+    Session n (N1, class C): a 5-s artefact, xfail(strict) with the numbers; the control that still separates the rule
+    from its defect at standstill is the next test."""
     assert _dev(env, RL_SEED23, sets=("vehicle.blowout_compensation.yaw_net_flag=0",)) > _dev(env, RL_SEED23,
                                                                                               baseline=True)
+
+
+def test_rl_blowout_braking_rule_beats_the_defect_to_standstill(env):
+    """Session n (N1, class C, the replacement control): judged to standstill the rule (yaw_net_flag shipped) is better
+    than its seeded defect at the same point in the requirement's metric: road deviation 0.640 m vs 1.469 m (both on
+    the road). Fails at flag 0 (the run is the defect's: equal)."""
+    rule = envelope_point_metric(env, RL_SEED23, ROAD)
+    defect = envelope_point_metric(env, RL_SEED23, ROAD, sets=("vehicle.blowout_compensation.yaw_net_flag=0",))
+    assert rule < defect, (rule, defect)
 
 
 def test_fl_blowout_braking_rejection_still_guards(env):

@@ -37,7 +37,9 @@ def test_envelope_loads_with_the_blowout_dimensions_plus_the_fault_and_is_listed
                                              "low_accumulator"}
     assert (env.dim("accumulator").lo, env.dim("accumulator").hi) == (40, 120)  # spec S6 .. nominal p_max
     assert env.model.baseline == ["vehicle.blowout_compensation.enabled_flag=0"]
-    assert env.model.requirements == ["tire_blowout.no_worse_than_no_compensation"]
+    # session n (N1, class A): the new row no_earlier_road_departure is judged with the never-worse row
+    assert env.model.requirements == ["tire_blowout.no_worse_than_no_compensation",
+                                      "tire_blowout.no_earlier_road_departure"]
     for d in env.dims:
         assert len(d.source) > 20, d.name
     assert "tire_blowout_faults" in shipped_envelopes()

@@ -131,9 +131,14 @@ def test_named_window_points_no_worse_than_none(run, name):
 @pytest.mark.parametrize("name", sorted(NAMED))
 def test_named_window_points_worse_with_defect(run, name):
     """Negative control of the row above: with ``named_front_gma_flag = 0`` (the code before I4's rule) both points
-    are worse than the twin (5.921 / 1.327 m)."""
-    off, none = _dev(run(name, sets=NAMED_GMA_DEFECT)), _dev(run(name, baseline=True))
-    assert off > none, f"{off:.3f} m vs none {none:.3f} m"
+    are worse than the twin (5.921 / 1.327 m). Session n (N1, class C corrected): judged to standstill #83_90's cars
+    both leave the road (run max 16.906 vs the twin's 24.164 m, beyond the road edge: not ranked), so the same check is
+    both rows of the requirement (never_worse_rows): the defect leaves the road 2.715 s BEFORE the twin (s83_9: road
+    deviation 0.949 vs 0.367 m)."""
+    from tests.support import never_worse_rows
+
+    rows = never_worse_rows(run(name, sets=NAMED_GMA_DEFECT), run(name, baseline=True))
+    assert min(rows.values()) < 0.0, (name, rows)
 
 
 @pytest.mark.parametrize("sets,gma", [((), False), (NAMED_GMA_DEFECT, True)])
@@ -224,12 +229,14 @@ def test_8_outer_rear_abs_hold_across_the_detection(run):
     10-14 %, 45 bar) that lasts across it (to 1.86 s; detection 1.42 s); the twin's RR reaches the dump threshold
     and dumps (1.34 s, 46 -> 33 bar), and none of its RR holds in the same stretch is as long."""
     on, none = run("s61_8"), run("s61_8", baseline=True)
-    t = np.asarray(on.trace["time_s"])
-    t_det = float(t[np.argmax(np.asarray(on.trace["blowout_mode_index"]) != 0)])
+    t_on = np.asarray(on.trace["time_s"])
+    t_det = float(t_on[np.argmax(np.asarray(on.trace["blowout_mode_index"]) != 0)])
     t0 = P61_8["brake.start_s"]
 
     def holds(r):
-        """(start, end) of each uninterrupted RR ABS hold starting between the pedal and the detection + 0.5 s."""
+        """(start, end) of each uninterrupted RR ABS hold starting between the pedal and the detection + 0.5 s. Each
+        run on its own time base (N1, session n, class A: to standstill the two runs end at different times)."""
+        t = np.asarray(r.trace["time_s"])
         m = np.asarray(r.trace["abs_mode_rr_index"]) == ABS_HOLD
         out, k = [], 0
         while k < len(t):

@@ -141,9 +141,21 @@ def test_curve_braking_point_no_worse(p43):
     assert p43["on"] <= p43["off"]
 
 
+@pytest.mark.xfail(strict=True, reason=(
+    "N1 (session n, class C): judged to standstill the defect (rear_circle_flag = 0) is no longer worse than no "
+    "compensation: 0.889 m (stopped 11.6 s) vs the twin's 0.949 m (stopped 8.8 s; both on the road): the twin, 0.84 m "
+    "at 5 s, drifts on; the defect's 5-s loss was the window. The rule still beats the defect (0.121 vs 0.889 m)"))
 def test_curve_braking_point_worse_with_the_defect(p43):
-    """Negative control: rear_circle_flag = 0 (the linear-region cap) is worse than none (0.89 vs 0.84 m)."""
+    """Negative control: rear_circle_flag = 0 (the linear-region cap) is worse than none (0.89 vs 0.84 m). Session n
+    (N1, class C): a 5-s-window control, xfail(strict) with the numbers; the rule-vs-defect control at standstill is the
+    next test."""
     assert p43["defect"] > p43["off"]
+
+
+def test_curve_braking_point_rule_beats_the_defect_to_standstill(p43):
+    """Session n (N1, class C, the replacement control): judged to standstill the rule is better than its defect at the
+    same point: run max 0.121 m vs 0.889 m (both on the road, where it equals the requirement's road deviation)."""
+    assert p43["on"] < p43["defect"]
 
 
 def test_curve_braking_rear_axle_keeps_the_drivers_pressure(p43):

@@ -119,14 +119,22 @@ def env():
 @pytest.mark.parametrize("point", [P54, P309, P459], ids=["f_r3_54", "f_r41_309", "f_r41_459"])
 def test_release_and_gates_never_worse_than_without_compensation(env, point):
     """The yaw limitation (the blown side's rear released beyond esp.yaw_dump_rate toward the blown side) and its two
-    gates, through the requirement: the function's run max <= the twin's (same fault)."""
-    on = _run(env, point).metrics[METRIC]
-    none = _run(env, point, baseline=True).metrics[METRIC]
-    assert on <= none, (on, none)
+    gates, through the requirement: the function's run max <= the twin's (same fault). Session n (N1): both rows of
+    the requirement (never_worse_rows), the run judged to standstill."""
+    from tests.support import never_worse_rows
+
+    rows = never_worse_rows(_run(env, point), _run(env, point, baseline=True))
+    assert min(rows.values()) >= 0.0, rows
 
 
 @pytest.mark.parametrize("point", [P54, P309], ids=["f_r3_54", "f_r41_309"])
 def test_release_points_defect_is_worse_than_without_compensation(env, point):
     """Negative control: the code before (flag 0) fails the same check at these two points (16.621 > 11.098,
-    13.690 > 10.930)."""
-    assert _run(env, point, sets=DEFECT).metrics[METRIC] > _run(env, point, baseline=True).metrics[METRIC]
+    13.690 > 10.930). Session n (N1, class C corrected): judged to standstill every car at #309 and the code before and
+    the twin at #54 leave the road (run max #309 48.190 vs 50.688 m, beyond the road edge: not ranked), so the same
+    check is both rows (never_worse_rows): the code before leaves the road 0.015 s (#54) / 0.050 s (#309) before the
+    twin - worse in row no_earlier_road_departure."""
+    from tests.support import never_worse_rows
+
+    rows = never_worse_rows(_run(env, point, sets=DEFECT), _run(env, point, baseline=True))
+    assert min(rows.values()) < 0.0, rows

