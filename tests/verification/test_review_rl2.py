@@ -49,6 +49,17 @@ def test_a_set_that_puts_the_fault_time_after_the_run_is_a_load_error():
     env.with_sets(["run.duration_s=4.5"])  # a run that still covers the range loads
 
 
+def test_the_unrestricted_envelope_checks_fault_time_under_each_run_choice():
+    """N1's gap, fixed (session n): the whole envelope with --set run.duration_s=3 - its braking = brakes points run 30 s,
+    but its braking = none points run 3 s and a fault_time of 4 s would fail mid-search. validate_points now checks every
+    range end under each option of a choice that writes the run (choices.braking): a one-line load error naming it."""
+    env = load_envelope("tire_blowout_faults")
+    with pytest.raises(InputError) as exc:
+        env.with_sets(["run.duration_s=3"])
+    text = str(exc.value)
+    assert "\n" not in text and "fault_time = 4" in text and "choices.braking.options.none" in text, text
+
+
 def test_a_bad_centre_is_reported_as_the_centre_not_as_the_first_dimension(tmp_path):
     """max = 40 s puts the centre's fault at 20 s, after the 5-s run: the message named "speed = 40" (the first
     dimension) - now the centre point with its fault_time. Session n (N1, class A): the centre brakes (braking =

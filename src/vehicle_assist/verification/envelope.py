@@ -588,19 +588,30 @@ class Envelope:
             except InputError as exc:
                 raise InputError(f"{pre}{'baseline at ' if baseline else ''}the centre point "
                                  f"[{self.point_name(centre)}]: {exc}") from None
+        # choices whose options write the run itself (session n: the braking option runs to standstill, 30 s, the other
+        # keeps the base's 5 s or a --set run.duration_s): a range end is checked under each of their options, since an
+        # event time that fits one run length may not fit the other (a fault_time of 4 s in a 3-s run, review N1)
+        run_choices = [(c, o) for c, spec in self.model.choices.items()
+                       if any(str(k).startswith("run.") for sets in spec.options.values() for k in sets)
+                       for o in spec.options]
         for d in self.dims:
             r = self.model.ranges.get(d.name)
+            fixed = set(r.when) if r is not None and r.when is not None else set()
             for value in (d.options if d.kind == "discrete" else (d.lo, d.hi)):
                 point = dict(centre, **{d.name: value})
-                if r is not None and r.when is not None:
+                if fixed:
                     point.update({c: opts[0] for c, opts in r.when.items()})
-                for baseline in (False, True):
-                    try:
-                        self.scenario(point, baseline)
-                    except InputError as exc:
-                        what = "baseline" if baseline else (f"choices.{d.name}.options.{value}" if d.kind == "discrete"
-                                                            else f"{d.name} = {value:g}")
-                        raise InputError(f"{pre}{what}: {exc}") from None
+                for under in [None] + [(c, o) for c, o in run_choices if c != d.name and c not in fixed]:
+                    p = dict(point, **{under[0]: under[1]}) if under else point
+                    for baseline in (False, True):
+                        try:
+                            self.scenario(p, baseline)
+                        except InputError as exc:
+                            what = "baseline" if baseline else (f"choices.{d.name}.options.{value}" if d.kind == "discrete"
+                                                                else f"{d.name} = {value:g}")
+                            if under:
+                                what += f" with choices.{under[0]}.options.{under[1]}"
+                            raise InputError(f"{pre}{what}: {exc}") from None
 
     def table_rows(self) -> list[dict]:
         """One row per dimension: name, kind, range or options, source (for docs and reports)."""
