@@ -465,6 +465,37 @@ def test_tpms_path_confirmed_by_a_spinning_up_flat_wheel(params):
     assert e.st[bc.S_HEALTHY_S] == -1.0  # confirmed
 
 
+def test_rows_blown_side_unbraked(params):
+    """blown_side_single_flag (session n N2): a SINGLE-source detection of a blown REAR (RL, TPMS path: braked, no
+    over-speed) whose side's FRONT (FL) inlet is diagnosed stuck with no brake in it, the driver braking, is stood down
+    as a rejection: BUILD -> REJECTED one period after the detection, HOLD -> REJECTED when the diagnosis comes in HOLD,
+    LIMITED -> REJECTED (the opposite rear stuck too); the latch cleared (RL the driver's again). Not with the flag 0
+    (seeded defect: BUILD -> HOLD), not for a detection both sources agree on, not with the stuck front braked (its
+    trapped line pressure >= esp.plausibility_pressure), not for the other side's front (diagonal)."""
+    on = dict(blowout_compensation_blown_side_single_flag=1.0)
+    rl = dict(vw=(V, V, 0.5 * V, V), tpms=3.0, braking=1.0)
+    fl_stuck = (0, 1, 1, 1)
+    e = Ecu(params, **on).run(0.2).run(0.1, inlet=fl_stuck, **rl)
+    assert e.rows == [("IDLE", "BUILD", "blowout_detected"), ("BUILD", "REJECTED", "blown_side_unbraked")]
+    assert int(e.st[bc.S_BLOWN]) == -1 and e.req[2] == bc.Q_NONE
+    d = Ecu(params, blowout_compensation_blown_side_single_flag=0.0).run(0.2).run(0.1, inlet=fl_stuck, **rl)
+    assert d.rows == [("IDLE", "BUILD", "blowout_detected")] and int(d.st[bc.S_BLOWN]) == 2  # released, latched
+    h = Ecu(params, **on).run(0.2).run(0.5, **rl)
+    assert h.mode == "HOLD"
+    h.run(0.01, inlet=fl_stuck, **rl)
+    assert h.rows[-1] == ("HOLD", "REJECTED", "blown_side_unbraked")
+    lim = Ecu(params, **on).run(0.2).run(0.1, inlet=(0, 1, 1, 0), **rl)
+    assert lim.rows == [("IDLE", "LIMITED", "inlet_valve_stuck"), ("LIMITED", "REJECTED", "blown_side_unbraked")]
+    two = Ecu(params, **on).run(0.2).run(0.1, vw=(V, V, FAST, V), tpms=3.0, braking=1.0, inlet=fl_stuck)
+    assert two.st[bc.S_SOURCES] == bc.SRC_WS + bc.SRC_TPMS and two.mode in ("BUILD", "HOLD")
+    braked = Ecu(params, **on).run(0.2)
+    braked.st[bc.S_P_LINE + 0] = 30e5  # FL stuck holding 30 bar (the ECU's line estimate at the diagnosis)
+    braked.run(0.1, inlet=fl_stuck, **rl)
+    assert braked.mode in ("BUILD", "HOLD")
+    diag = Ecu(params, **on).run(0.2).run(0.1, inlet=(1, 0, 1, 1), **rl)  # FR stuck: the diagonal, not this rule
+    assert diag.mode in ("BUILD", "HOLD")
+
+
 def test_every_machine_row_has_a_test_above():
     """Guard: the rows named in the tests above are exactly the rows of MACHINE (a new row needs a test)."""
     covered = {("IDLE", "BUILD", "blowout_detected"), ("BUILD", "HOLD", "valve_time_elapsed"),
@@ -480,7 +511,9 @@ def test_every_machine_row_has_a_test_above():
                ("BUILD", "LIMITED", "beyond_stable_region"), ("HOLD", "LIMITED", "beyond_stable_region"),
                ("IDLE", "LIMITED", "beyond_stable_region"), ("REJECTED", "LIMITED", "beyond_stable_region"),
                ("BUILD", "REJECTED", "signature_unconfirmed"), ("HOLD", "REJECTED", "signature_unconfirmed"),
-               ("LIMITED", "REJECTED", "signature_unconfirmed"), ("LIMITED", "BUILD", "spin_stopped")}
+               ("LIMITED", "REJECTED", "signature_unconfirmed"), ("LIMITED", "BUILD", "spin_stopped"),
+               ("BUILD", "REJECTED", "blown_side_unbraked"), ("HOLD", "REJECTED", "blown_side_unbraked"),
+               ("LIMITED", "REJECTED", "blown_side_unbraked")}
     assert {(t.source, t.target, t.guard) for t in bc.MACHINE.transitions} == covered
 
 

@@ -240,9 +240,14 @@ MACHINE = StateMachine("blowout_compensation", MODES, (
                "region - the mu-0.8 bounds, the sideslip phase plane, no yaw toward the blown side beyond the "
                "closed-loop dead band, the spin's heading taken back - for the single-track model's settling time "
                "(spin_exit_flag): the front released, the rear compensating wheel re-planned to the balance (eq. 28)"),
+    Transition("BUILD", "REJECTED", "blown_side_unbraked", "single-source detection of a blown REAR whose side's "
+               "FRONT inlet is diagnosed stuck with no brake in it, the driver braking (blown_side_single_flag): the "
+               "paper's release leaves that side unbraked - the function stands down as REJECTED does"),
+    Transition("HOLD", "REJECTED", "blown_side_unbraked", "as from BUILD"),
+    Transition("LIMITED", "REJECTED", "blown_side_unbraked", "as from BUILD"),
 ))
-G_DETECTED, G_STUCK, G_VALVE_DONE, G_YAW_IMPLAUSIBLE, G_SLOW, G_CLEARED, G_UNSTABLE, G_UNCONFIRMED, G_SPIN_STOPPED = \
-    range(9)
+G_DETECTED, G_STUCK, G_VALVE_DONE, G_YAW_IMPLAUSIBLE, G_SLOW, G_CLEARED, G_UNSTABLE, G_UNCONFIRMED, G_SPIN_STOPPED, \
+    G_BLOWN_SIDE_UNBRAKED = range(10)
 REASONS = MACHINE.guards
 # per-wheel requests to the ESP arbitration
 Q_NONE, Q_BUILD, Q_HOLD, Q_RELEASE, Q_PULSE = range(5)
@@ -1227,7 +1232,8 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
     _push_pressures(st, p_est)
     if p.blowout_compensation_enabled_flag < 0.5:
         return n_events
-    if p.blowout_compensation_blown_side_fault_flag > 2.5 or p.blowout_compensation_diagonal_fault_flag > 0.5:
+    if (p.blowout_compensation_blown_side_fault_flag > 2.5 or p.blowout_compensation_diagonal_fault_flag > 0.5
+            or p.blowout_compensation_blown_side_single_flag > 0.5):
         for i in range(4):
             if inlet_ok[i] < 0.5 and st[S_L6_TRAPPED + i] < 0.0:
                 st[S_L6_TRAPPED + i] = st[S_P_LINE + i]  # (blown_side_fault_flag 3) the pressure the fault trapped
@@ -1411,6 +1417,9 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         spin_over = False
         if mode == LIMITED and st[S_LIMIT_CODE] == LIMIT_SPIN_FRONT:
             spin_over = spin_stopped(st, b, yaw_rate, code, b_dot, v_ref, inlet_ok, dt, p)
+        # (blown_side_single_flag, session n N2) a single-source detection of a blown rear whose side's front is stuck
+        # unbraked while the driver brakes: stand down as REJECTED does (blown_side_unbraked)
+        side_unbraked = single and blown_side_unbraked(b, braking, inlet_ok, st, p)
         if (mode == BUILD or mode == HOLD) and inlet_ok[tg] < 0.5:
             # diagnosis after the detection: re-plan on the substitute wheel (slip as at detection)
             sub = _substitute(b)
@@ -1419,12 +1428,12 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             n_events = log_event(events, n_events, t, machine_id, mode, LIMITED, G_STUCK)
             mode = LIMITED
         elif single and ((judged < -p.blowout_compensation_abort_yaw_rate_radps and st[S_OS_YAW_SEEN] < 0.5)
-                         or unconfirmed):
+                         or unconfirmed or side_unbraked):
             # (rear_oversteer_yaw_flag: S_OS_YAW_SEEN, the yaw once beyond the reference toward the blown side after
             # the build, confirms the flat - the yaw away afterwards is the held rear pair's, not a false alarm)
             n_events = log_event(events, n_events, t, machine_id, mode, REJECTED,
                                  G_YAW_IMPLAUSIBLE if judged < -p.blowout_compensation_abort_yaw_rate_radps
-                                 else G_UNCONFIRMED)
+                                 else G_UNCONFIRMED if unconfirmed else G_BLOWN_SIDE_UNBRAKED)
             st[S_HEALTHY_S] = -1.0
             # the released wheel back to the driver at once (reject_reapply_flag; functions/esp.py): ABS's pulsed re-build
             # from the released level (55 -> 10 bar at a 500 N pedal) took 0.3 s on a front wheel, and the rear select-
@@ -1695,6 +1704,28 @@ def substitute_yaw_limit(b, tg, yaw_err, p_est, requests, p, st):
             requests[w] = Q_RELEASE
     elif p.blowout_compensation_substitute_yaw_limit_flag > 1.5:
         st[S_SUB_HOLD] = -1.0
+
+
+@nb.njit(cache=True, nogil=True, error_model="numpy")
+def blown_side_unbraked(b, braking, inlet_ok, st, p):
+    """``blown_side_single_flag`` (0 = the code before; session n N2, tire_blowout_findings.md N2): blown_side_fault's
+    premises - a blown REAR b whose side's FRONT (RL <-> FL, RR <-> FR) has its inlet diagnosed stuck closed with no
+    brake in it (the pressure the fault trapped, S_L6_TRAPPED, below esp.plausibility_pressure: L6's value 3) while the
+    driver brakes (brake-light switch) - for a detection the caller has found SINGLE-source (wheel speeds or TPMS
+    alone). Paper 004's balance (eqs. 9, 22-28) with the stuck front's force gone: the release (P7, F_b = 0) leaves the
+    blown side with no brake, the pedal's front brake acts on the other side alone, b_f*F_front away from the blown
+    side, and the counter-brake (eq. 28, the other rear) adds to it - no counter-brake >= 0 balances that (L1). For a
+    two-source detection blown_side_fault (value 4) stands the brakes down and keeps the detection. For a single-source
+    one RL4 kept the paper's release (the confirmation probe), and M5 showed that what ended it on these points was the
+    yaw_implausible rejection (f_r3 #22: 0.57 s after the detection); standing the brakes down while keeping the
+    detection (L6's value 3) left the ESP in the function's modes (TPMS-named reference, rear select-low exceptions,
+    GMA suppressed; M5's #492). So the caller stands the function down exactly as a rejection does (REJECTED: the
+    released wheel re-applied at once, the rear pair select-low, the latch cleared; guard blown_side_unbraked): the
+    no-compensation car on every brake. No new number. Not for a blown front (blown_side_front_flag governs there)."""
+    if p.blowout_compensation_blown_side_single_flag < 0.5 or b < 2 or braking < 0.5:
+        return False
+    s = b - 2
+    return inlet_ok[s] < 0.5 and 0.0 <= st[S_L6_TRAPPED + s] < p.esp_plausibility_pressure_pa
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")

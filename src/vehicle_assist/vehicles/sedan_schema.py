@@ -454,6 +454,11 @@ class SedanBlowoutCompensation(Strict):
     # (review RL2, candidate) blown_side_fault_flag's rule stands aside while the spin-front rule governs (limit code 5:
     # blown rear released, the compensating side's front braked); 0 = the code before (the rule acts under code 5 too)
     blown_side_spin_front_flag: Annotated[int, Field(ge=0, le=1)] = 0
+    # (session n, N2) a SINGLE-source detection of a blown REAR whose side's FRONT inlet is diagnosed stuck with no brake
+    # in it (below esp.plausibility_pressure), the driver braking: 1 = the function stands down as a rejection does
+    # (REJECTED, guard blown_side_unbraked; shipped on the SUV, findings N2); 0 = the code before (the paper's release
+    # until yaw_implausible rejects)
+    blown_side_single_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # (session m M2) blown_side_fault_flag's premises for a blown FRONT whose side's REAR inlet is stuck closed: 2 the rear
     # pair select-low on pressure while the yaw error points away from the blown side; 3 (shipped, M2b) = 2 with a
     # hysteresis on that gate (open beyond esp.yaw_hold_rate away, closed beyond the dead band toward); 1 (candidate,
