@@ -175,11 +175,16 @@ def test_75_stuck_rl_never_worse_than_without_compensation(runs75):
     assert on <= none, (on, none)
 
 
-def test_75_stuck_rl_compensating_front_not_capped_at_the_other_front(runs75):
+def test_75_stuck_rl_compensating_front_not_capped_at_the_other_front(env):
     """Mechanism: the compensating FL (RR blown: counter-moment to the left, FL above FR) is not held at FR's pressure
     by the GMA follow - over the first LIMITED second FL - FR averages -0.2 bar; at the code before (flag 0) the
     follow's hold kept FL at or below FR: -4.3 bar. The rows differ by more than the unit's 1-bar settled band."""
-    on, defect = _fl_minus_fr_bar(runs75["on"]), _fl_minus_fr_bar(runs75["defect"])
+    # (session n, N3) substitute_braking_flag (shipped 1) re-builds the substitute FL after its ABS dumps in BOTH rows
+    # (5.83 vs 5.24 bar: the follow's cap no longer shows); J8's statement is about the follow's cap and is tested with
+    # it at 0, as at 2012a18
+    n3_off = ("vehicle.blowout_compensation.substitute_braking_flag=0",)
+    on = _fl_minus_fr_bar(_stuck_run(env, P75, sets=n3_off))
+    defect = _fl_minus_fr_bar(_stuck_run(env, P75, sets=COMP_DEFECT + n3_off))
     assert on > defect + SETTLED_PA / BAR, (on, defect)
 
 

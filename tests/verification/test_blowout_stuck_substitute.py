@@ -35,7 +35,11 @@ import vehicle_assist as va
 from vehicle_assist.verification.envelope import load_envelope
 
 METRIC = "blowout_lateral_deviation_run_max_m"
-DEFECT = ("vehicle.blowout_compensation.substitute_yaw_limit_flag=0",)  # the code before
+# (session n, N3) substitute_braking_flag (shipped 1) re-builds the substitute FR after its ABS dumps and moves #22 on
+# its own (the twin at standstill 22.19 m: K2's flag 0 with it 19.04 m, no longer worse); K2's and K7's statements are
+# about the blown side's front and are tested with it at 0, as at 2012a18 (the shipped "on" run keeps every flag)
+N3_OFF = ("vehicle.blowout_compensation.substitute_braking_flag=0",)
+DEFECT = ("vehicle.blowout_compensation.substitute_yaw_limit_flag=0",) + N3_OFF  # the code before
 LIMIT_OTHER_AXLE = 1  # blowout_limit_code: the opposite inlet stuck, the other axle's wheel brakes (issue #10)
 # /tmp/lead/i/end/r61/falsify.json history #22 (random 61 -n 32 -b 32), + RR's inlet stuck closed from 0 s
 P22 = {"speed": 105.64040531450647, "mu": 0.6556705730966937, "delay": 0.27866973963406677,
@@ -130,8 +134,8 @@ def test_22_blown_side_front_released_beyond_the_yaw_dump_rate(runs):
 # entering the band and releases it while it is > 1 bar above that level. Value 2 is not shipped (444 stuck rear points:
 # 2 new never-worse violations, findings K7), so these tests set it explicitly; K2's value 1 is the reference it must
 # improve on - they fail with LATCH = 1 (shown in findings K7).
-LATCH = ("vehicle.blowout_compensation.substitute_yaw_limit_flag=2",)
-K2_RULE = ("vehicle.blowout_compensation.substitute_yaw_limit_flag=1",)
+LATCH = ("vehicle.blowout_compensation.substitute_yaw_limit_flag=2",) + N3_OFF
+K2_RULE = ("vehicle.blowout_compensation.substitute_yaw_limit_flag=1",) + N3_OFF
 YAW_HOLD_RADPS = np.radians(2.0)  # esp.yaw_hold_rate_deg_per_s (suv_bj2500.toml, the ESP's GMA yaw hold)
 RULE_MARGIN_PA = 1.0e5  # the rule's 1-bar margin (substitute_yaw_limit, both values)
 

@@ -2522,12 +2522,25 @@ def rear_braking_rule(st, b, tg, mode, braking, p_mc, p_est, p):
     of the outer rear moved the single-source (TPMS path) detections into yaw-implausible rejections, random 23 #4
     0.64 -> 1.45 m (none 1.19), 21 points of 448 worse by > 0.05 m; the target at the driver's pressure without waiting
     for a dump (pumped up): 2 new violations (random 23 #4 1.33 m, targeted 5 #57)."""
-    if braking < 0.5 or tg != OPPOSITE[b] or not (mode == BUILD or mode == HOLD):
+    # (substitute_braking_flag, session n N3, tire_blowout_findings.md N3; 0 = the code before = the opposite rear
+    # only) the same re-build on the SUBSTITUTE front: LIMITED with limit code 1 (the opposite rear's inlet diagnosed
+    # stuck, _substitute brakes the front on the other side). That front takes the driver's pressure through the line
+    # as the compensating rear does and ABS guards it; its re-build after a dump stopped at the plan as well (the plan
+    # is lowered by the rear slip limit / capacity rule before the pedal: f_r41 #184, RL blown, RR stuck, 54 km/h,
+    # mu 0.39: FR 31 bar at the pedal, each dump lower, held at 6.7 bar for 7 s against the twin's ABS-cycled 20-25
+    # bar; the car braked at ~1.7 m/s^2 against ~3.5, still yawed toward RL and rolled off the road 26 s 'earlier'
+    # than the twin, which stopped on it). A front: the driver's pressure is the master pressure (no proportioning)
+    sub = (p.blowout_compensation_substitute_braking_flag > 0.5 and mode == LIMITED
+           and st[S_LIMIT_CODE] == LIMIT_OTHER_AXLE and tg == _substitute(b) and tg < 2)
+    if braking < 0.5 or not (sub or (tg == OPPOSITE[b] and (mode == BUILD or mode == HOLD))):
         st[S_P_PREDUMP] = -1.0
         st[S_RB_HIGH] = 0.0
         return
-    p_drv = proportioned_pa(max(p_mc, 0.0), p.master_cylinder_proportioning_knee_pa,
-                            p.master_cylinder_proportioning_slope_frac)
+    if sub:
+        p_drv = max(p_mc, 0.0)
+    else:
+        p_drv = proportioned_pa(max(p_mc, 0.0), p.master_cylinder_proportioning_knee_pa,
+                                p.master_cylinder_proportioning_slope_frac)
     st[S_RB_HIGH] = max(st[S_RB_HIGH], min(p_est[tg], p_drv))
     if p_est[tg] < st[S_RB_HIGH] - PRESSURE_MARGIN_PA:
         st[S_P_BRAKE] = max(st[S_P_REQ], min(p_drv, st[S_RB_HIGH]))

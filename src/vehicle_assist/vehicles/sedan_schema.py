@@ -470,6 +470,10 @@ class SedanBlowoutCompensation(Strict):
     # sideslip phase plane unstable (L2's gate); 3 (shipped, review RM1) = 2 except in a curve steered toward the blown
     # side (L2's curve gate); 0 = the code before (findings M1, RM1)
     diagonal_fault_flag: Annotated[int, Field(ge=0, le=3)] = 3
+    # (session n, N3) rear_braking_flag's re-build after an ABS dump (to the highest driver's level the wheel reached,
+    # no higher than the dump's start) on the SUBSTITUTE front of a rear blowout (LIMITED, limit code 1: the opposite
+    # rear's inlet stuck); 0 = the code before (the re-build stopped at the plan; findings N3)
+    substitute_braking_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
