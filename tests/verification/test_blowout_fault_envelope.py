@@ -37,7 +37,8 @@ def test_envelope_loads_with_the_blowout_dimensions_plus_the_fault_and_is_listed
                                              "low_accumulator"}
     assert (env.dim("accumulator").lo, env.dim("accumulator").hi) == (40, 120)  # spec S6 .. nominal p_max
     assert env.model.baseline == ["vehicle.blowout_compensation.enabled_flag=0"]
-    assert env.model.requirements == ["tire_blowout.no_worse_than_no_compensation"]
+    assert env.model.requirements == ["tire_blowout.no_worse_than_no_compensation",
+                                      "tire_blowout.no_earlier_road_departure"]
     for d in env.dims:
         assert len(d.source) > 20, d.name
     assert "tire_blowout_faults" in shipped_envelopes()
