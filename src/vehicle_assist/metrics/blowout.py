@@ -23,6 +23,10 @@ LANE_MARGIN_M = 0.5 * (LANE_WIDTH_M - CAR_WIDTH_M)
 # JTG B01-2014 as recalled (the standard's table could not be re-read here; its minimum value is smaller, so 3.0 m is
 # the generous end: a car is judged off the road later, not earlier). The same on the left, where the adjacent lane
 # (3.75 m) or the median's shoulder lies: the deviation metric is unsigned (tire_blowout.md 9.5).
+# Review R0 (session n): the 3.0 m is NOT verified - the JTG B01-2014 table could not be retrieved either; a secondary
+# source (JTG B01's rule that an expressway whose hard shoulder is < 2.5 m needs emergency bays) shows narrower
+# shoulders exist. Sensitivity on the 52 points whose verdict changed from the unclipped standstill judgement:
+# 3 violations at 2.5-3.0 m, 5 at 0.5-1.5 m, 6 at 4.0 m (tire_blowout_findings.md R0).
 SHOULDER_M = 3.0
 ROAD_EDGE_M = LANE_MARGIN_M + SHOULDER_M
 # the earliness of a road departure is counted back from this horizon: the braking points' run cap of the blowout
