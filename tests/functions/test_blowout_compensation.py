@@ -496,6 +496,31 @@ def test_rows_blown_side_unbraked(params):
     assert diag.mode in ("BUILD", "HOLD")
 
 
+def test_rows_blown_side_unbraked_premises(params):
+    """(review R2, session n) blown_side_single_flag's premises one by one, each a mutant N2's rows let through:
+    the brake-light gate (no pedal: the stuck front is no asymmetry, the paper's release stands; the pedal coming in
+    HOLD stands it down then), the threshold IS esp.plausibility_pressure (a stuck front trapped at 0.75x is unbraked,
+    at 1.25x braked - its own number, not a value fitted to a run), and a blown FRONT is not this rule's (its side's
+    rear stuck: blown_side_front_flag governs). At flag 0 the pedal-in-HOLD and the 0.75x rows fail."""
+    on = dict(blowout_compensation_blown_side_single_flag=1.0)
+    rl = dict(vw=(V, V, 0.5 * V, V), tpms=3.0)
+    fl_stuck = (0, 1, 1, 1)
+    ws = dict(vw=(V, V, FAST, V), tpms=0.0)  # no pedal: a wheel-speed-only (single-source) detection, RL
+    free = Ecu(params, **on, **WS_ONLY).run(0.2).run(0.5, inlet=fl_stuck, braking=0.0, **ws)
+    assert free.st[bc.S_SOURCES] == bc.SRC_WS and free.mode == "HOLD", free.rows
+    free.run(0.01, inlet=fl_stuck, braking=1.0, **ws)  # the pedal comes in HOLD
+    assert free.rows[-1] == ("HOLD", "REJECTED", "blown_side_unbraked"), free.rows
+    thr = params.esp_plausibility_pressure_pa
+    for frac, fires in ((0.75, True), (1.25, False)):
+        e = Ecu(params, **on).run(0.2)
+        e.st[bc.S_P_LINE + 0] = frac * thr  # FL's line estimate when its inlet is diagnosed stuck
+        e.run(0.1, inlet=fl_stuck, braking=1.0, **rl)
+        assert (("BUILD", "REJECTED", "blown_side_unbraked") in e.rows) == fires, (frac, e.rows)
+    # a blown FRONT (FL, TPMS path, braked) with its side's REAR (RL) stuck unbraked: not this rule's row
+    fr = Ecu(params, **on).run(0.2).run(0.1, vw=(0.5 * V, V, V, V), tpms=1.0, braking=1.0, inlet=(1, 1, 0, 1))
+    assert "blown_side_unbraked" not in [g for _, _, g in fr.rows] and fr.mode != "REJECTED", fr.rows
+
+
 def test_every_machine_row_has_a_test_above():
     """Guard: the rows named in the tests above are exactly the rows of MACHINE (a new row needs a test)."""
     covered = {("IDLE", "BUILD", "blowout_detected"), ("BUILD", "HOLD", "valve_time_elapsed"),
