@@ -74,3 +74,47 @@ def test_184_substitute_front_keeps_the_brake_abs_gives_it(runs):
     fr_on = float(np.mean(np.asarray(on.trace["wheel_pressure_fr_pa"])[m_on]))
     fr_none = float(np.mean(np.asarray(none.trace["wheel_pressure_fr_pa"])[m_none]))
     assert fr_on >= 0.5 * fr_none, (fr_on / 1e5, fr_none / 1e5)
+
+
+# --- review R3 (session n): the mirror side and the other curve direction ----------------------------------------------
+# N3's three tests use one point (RL blown, RR stuck from t = 0, left curve). A mutant that applies the rule to a blown
+# RL only (b == 2) passed all three; on R3's targeted search (tire_blowout_faults, -R wheel=rl,rr -R
+# fault=inlet_stuck_rl,inlet_stuck_rr -R braking=brakes, seed 613, 256 points) it made #115 a NEW violation in both rows.
+# #115: RR blown, RL's inlet stuck from 0.89 s, 650 m LEFT curve (RR the outer rear), 64 km/h, mu 0.51, pedal 1.67 s.
+# #98 of the same search on RIGHT-hand curves (tire_blowout_faults_right, lead's f326f04 = the curve's radius negative):
+# RL blown, RR stuck from 1.57 s (after the detection: BUILD/HOLD on RR, then LIMITED on the substitute FR), 650 m right
+# curve, 55 km/h, mu 0.44, pedal 2.10 s. References: the twin with the same fault and the road edge (as above).
+P115 = {"speed": 63.65789269179121, "mu": 0.5085887279554567, "delay": 0.10843909832530703,
+        "wheel_speed_noise": 0.18766956833127674, "noise_seed": 4159.0, "brake_gain": 1.1263230375822375,
+        "accumulator": 70.03392537358765, "fault_time": 0.8895616547657728, "brake.start_s": 1.6701598241372202,
+        "brake.level_frac": 0.15917374526209346, "brake.rate_per_s": 11.007861245842939, "braking": "brakes",
+        "wheel": "rr", "driver": "fixed", "curve": "r650", "fault": "inlet_stuck_rl"}
+P98R = {"speed": 54.83411736029418, "mu": 0.4380105775584465, "delay": 0.10132898845261192,
+        "wheel_speed_noise": 0.28989212001859294, "noise_seed": 7036.0, "brake_gain": 0.8736321390137991,
+        "accumulator": 51.045592631348924, "fault_time": 1.5696262376994534, "brake.start_s": 2.0972853229314032,
+        "brake.level_frac": 0.300281991556663, "brake.rate_per_s": 18.854096850304792, "braking": "brakes",
+        "wheel": "rl", "driver": "fixed", "curve": "r650", "fault": "inlet_stuck_rr"}
+RIGHT = ("vehicle.lane_keeper.lane_radius_m=-650",)  # tire_blowout_faults_right's rr650
+
+
+@pytest.fixture(scope="module")
+def mirror_runs():
+    env = load_envelope("tire_blowout_faults")
+    return {"115": (envelope_point_run(env, P115), envelope_point_run(env, P115, True)),
+            "98R": (envelope_point_run(env, P98R, sets=RIGHT), envelope_point_run(env, P98R, True, sets=RIGHT))}
+
+
+@pytest.mark.parametrize("name", ["115", "98R"])
+def test_mirror_no_earlier_road_departure(mirror_runs, name):
+    """Row no_earlier_road_departure on the mirror side (#115, RR blown) and on a right-hand curve (#98R). Flag 0:
+    #115 25.345 s, #98R 23.670 s (FAIL); the RL-only mutant: #115 25.345 s (FAILS)."""
+    on, none = mirror_runs[name]
+    assert on.metrics[EARLY] <= none.metrics[EARLY], (on.metrics[EARLY], none.metrics[EARLY])
+
+
+@pytest.mark.parametrize("name", ["115", "98R"])
+def test_mirror_never_worse_on_the_road(mirror_runs, name):
+    """Row no_worse_than_no_compensation (road-clipped) on the same two points. Flag 0: #115 robustness -0.131,
+    #98R -0.355 (FAIL); the RL-only mutant: #115 -0.131 (FAILS)."""
+    on, none = mirror_runs[name]
+    assert on.metrics[ROAD] <= none.metrics[ROAD], (on.metrics[ROAD], none.metrics[ROAD])

@@ -386,7 +386,10 @@ S_M7_SET = S_M7_ERR0 + 1
 # when the yaw error points away from the blown side beyond esp.yaw_hold_rate, closed beyond the dead band toward the
 # blown side or when the rule stands aside, e.g. the pedal released); 0 = closed
 S_M2B_GATE = S_M7_SET + 1
-STATE_SIZE = S_M2B_GATE + 1
+# (substitute_braking_flag 2, review R3, session n) the wheel rear_braking_rule's S_RB_HIGH / S_P_PREDUMP were taken on
+# (the target wheel index), -1 = none; a new wheel starts them afresh
+S_R3_RB_WHEEL = S_M2B_GATE + 1
+STATE_SIZE = S_R3_RB_WHEEL + 1
 # (heading_return_line_flag, session k K3) the fraction of the other front's pressure the heading return may take off the
 # released front: with it the front axle keeps (2 - 0.5)/2 = 0.75 of its brake force, UN R13-H Annex 6 para 5.2's
 # minimum adhesion utilisation epsilon >= 0.75 of an anti-lock car transposed onto the axle the rule acts on (assumed
@@ -452,6 +455,7 @@ def initial_state() -> np.ndarray:
     st[S_SUB_HOLD] = -1.0
     st[S_L6_TRAPPED:S_L6_TRAPPED + 4] = -1.0
     st[S_M2B_GATE] = 0.0
+    st[S_R3_RB_WHEEL] = -1.0
     st[S_EXCLUDED] = -1.0
     st[S_REJECTED] = -1.0
     st[S_BUF_LAST] = -1.0
@@ -2535,7 +2539,17 @@ def rear_braking_rule(st, b, tg, mode, braking, p_mc, p_est, p):
     if braking < 0.5 or not (sub or (tg == OPPOSITE[b] and (mode == BUILD or mode == HOLD))):
         st[S_P_PREDUMP] = -1.0
         st[S_RB_HIGH] = 0.0
+        st[S_R3_RB_WHEEL] = -1.0
         return
+    if p.blowout_compensation_substitute_braking_flag > 1.5 and st[S_R3_RB_WHEEL] != tg:
+        # (value 2, review R3) the highest level and the dump's start belong to the wheel they were read on: when the
+        # compensation moves from the opposite REAR (BUILD/HOLD) to the substitute FRONT (LIMITED, the opposite rear's
+        # inlet diagnosed stuck after the detection) with the pedal held, value 1 carried the rear's S_RB_HIGH and the
+        # rear's ABS lock level S_P_PREDUMP over to the front (no premise-false period in between to clear them)
+        if st[S_R3_RB_WHEEL] >= 0.0:
+            st[S_P_PREDUMP] = -1.0
+            st[S_RB_HIGH] = 0.0
+        st[S_R3_RB_WHEEL] = tg
     if sub:
         p_drv = max(p_mc, 0.0)
     else:

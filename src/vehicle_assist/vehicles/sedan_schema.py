@@ -473,7 +473,8 @@ class SedanBlowoutCompensation(Strict):
     # (session n, N3) rear_braking_flag's re-build after an ABS dump (to the highest driver's level the wheel reached,
     # no higher than the dump's start) on the SUBSTITUTE front of a rear blowout (LIMITED, limit code 1: the opposite
     # rear's inlet stuck); 0 = the code before (the re-build stopped at the plan; findings N3)
-    substitute_braking_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # 2 (candidate, review R3, not shipped): 1 with the rule's state started afresh when its wheel changes (findings R3)
+    substitute_braking_flag: Annotated[int, Field(ge=0, le=2)] = 1
 
     @model_validator(mode="after")
     def _order(self):
