@@ -7,11 +7,11 @@ identical: generate the digests from the code before the change, then compare af
     python benchmarks/trace_digest.py --compare benchmarks/results/digests_before.json # after
 
 ``--layouts truck_amt,ev_ehb`` restricts the scenarios. ``benchmarks/digests/main_<commit>.json`` holds the digests
-of all shipped scenarios at that commit (now b12920f, 82 scenarios, all regenerated there: against the former bacf1e4
-snapshot one trace changed on purpose in session l - blowout_false_tpms_braking_60kph, the false-alarm heading return
-now never releases a front that turns the car away from the steered reference (heading_return_own_yaw_flag, findings L5,
-RL1): deviation 0.0431 -> 0.0434 m, stop 27.403 -> 27.392 m; the other 81 bitwise. The earlier snapshots were replaced
-the same way after intended model changes, see docs/functions/tire_blowout_sessions.md). Work that changes
+of all shipped scenarios at that commit (now edf66c8, 84 scenarios: against the former aa291ba snapshot every trace and
+event log is bitwise; the metric digests of the 35 sedan_esp scenarios changed because session n added two metrics,
+blowout_lateral_deviation_road_max_m and blowout_road_departure_earliness_s, to every run of that layout - without those
+two keys all 84 are equal, findings N1 and R0. The earlier snapshots were replaced the same way after intended model
+changes, see docs/functions/tire_blowout_sessions.md). Work that changes
 traces on purpose (a model fix) should compare against the commit just before it, and whoever lands such a change
 refreshes this file in the same landing (one snapshot of one commit, never a mix of entries from several).
 """
