@@ -50,14 +50,26 @@ def test_a_set_that_puts_the_fault_time_after_the_run_is_a_load_error():
 
 
 def test_the_unrestricted_envelope_checks_fault_time_under_each_run_choice():
-    """N1's gap, fixed (session n): the whole envelope with --set run.duration_s=3 - its braking = brakes points run 30 s,
-    but its braking = none points run 3 s and a fault_time of 4 s would fail mid-search. validate_points now checks every
-    range end under each option of a choice that writes the run (choices.braking): a one-line load error naming it."""
+    """N1's gap, fixed (session n): the whole envelope with --set run.duration_s=3 loaded although a fault_time of 4 s
+    fails mid-search. validate_points now checks every range end under each option of a choice that writes the run
+    (choices.braking): a one-line load error."""
     env = load_envelope("tire_blowout_faults")
     with pytest.raises(InputError) as exc:
         env.with_sets(["run.duration_s=3"])
     text = str(exc.value)
-    assert "\n" not in text and "fault_time = 4" in text and "choices.braking.options.none" in text, text
+    assert "\n" not in text and "fault_time = 4" in text, text
+
+
+def test_a_set_run_duration_stands_over_the_braking_option():
+    """Session n: the braking option runs to standstill (run.duration_s = 30); a user's --set run.duration_s is not
+    silently replaced on those points - every point, braking or not, runs the --set's length."""
+    env = load_envelope("tire_blowout").with_sets(["run.duration_s=7"])
+    for braking in ("brakes", "none"):
+        point = dict(env.center(), braking=braking)
+        assert env.scenario(point).model.run.duration_s == 7.0, braking
+    plain = load_envelope("tire_blowout")
+    assert plain.scenario(dict(plain.center(), braking="brakes")).model.run.duration_s == 30.0
+    assert plain.scenario(dict(plain.center(), braking="none")).model.run.duration_s == 5.0
 
 
 def test_a_bad_centre_is_reported_as_the_centre_not_as_the_first_dimension(tmp_path):

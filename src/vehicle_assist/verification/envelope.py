@@ -514,6 +514,9 @@ class Envelope:
                 p, k = d.name.split(".", 1)
                 params[p][k] = point[d.name]
         appended: list = []
+        # a run setting the user fixed (--set run.duration_s=..., or the file's own `sets`) stands over an option's (the
+        # braking option's standstill run): otherwise the --set would be ignored on those points without a word
+        fixed_run = {s.split("=", 1)[0].strip() for s in m.sets if s.strip().startswith("run.")}
         for name, c in m.choices.items():
             if name not in point:
                 continue
@@ -529,6 +532,8 @@ class Envelope:
                     appended += events
                 elif head in m.profiles and "." in path:
                     params[head][path.split(".", 1)[1]] = value
+                elif path in fixed_run:
+                    continue
                 else:
                     paths[path] = value
         if appended:
