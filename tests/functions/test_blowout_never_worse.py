@@ -41,6 +41,10 @@ def _sets(speed, mu, delay, wheel, driver, radius):
             f'vehicle.lane_keeper.steering_mode="{driver}"', f"vehicle.lane_keeper.lane_radius_m={radius}"]
 
 
+def _run(name, sets):
+    return va.simulate(va.load_scenario(name, sets=sets))
+
+
 def _dev(name, sets):
     return va.simulate(va.load_scenario(name, sets=sets)).metrics[METRIC]
 
@@ -57,9 +61,38 @@ def test_former_counterexample_no_worse(case):
     assert case["on"] < case["off"]
 
 
-def test_former_counterexample_fails_with_the_defect(case):
-    """Negative control: with the seeded defect the same point is a counterexample again."""
-    assert case["defect"] > case["off"]
+def _worse_by_the_rows(run, reference):
+    """Session n (N5): what the requirement compares - both never-worse rows of tire_blowout (tests/support.
+    never_worse_rows: road deviation clipped at the road edge, and the road departure's earliness); worse = either row's
+    robustness < 0. The unclipped run max of before ranked distances beyond the road edge, which the requirement no
+    longer does (a correction, not a loosening)."""
+    from tests.support import never_worse_rows
+
+    rows = never_worse_rows(run, reference)
+    return min(rows.values()) < 0.0, rows
+
+
+# N5 (session n, class C): at these two points both the defect and the twin leave the road within the 5-s run (road
+# deviation tie 3.978 m) and the defect leaves it LATER than the twin, so under the requirement's rows the defect is no
+# longer worse: the old unclipped run max ranked how far beyond the road edge each car went.
+_C_FORMER = {
+    "random_seed3": "defect 5.418 vs twin 5.059 m unclipped; rows: road tie 3.978 m, the defect leaves the road 0.090 s "
+                    "after the twin (earliness 27.730 vs 27.820 s)",
+    "random_seed7": "defect 6.092 vs twin 4.404 m unclipped; rows: road tie 3.978 m, the defect leaves the road 1.385 s "
+                    "after the twin (earliness 26.470 vs 27.855 s)",
+}
+
+
+@pytest.mark.parametrize("c", [pytest.param(c, marks=pytest.mark.xfail(strict=True, reason="N5 (session n, class C): "
+                                                                          + _C_FORMER[c[0]]))
+                               if c[0] in _C_FORMER else c for c in CASES], ids=[c[0] for c in CASES])
+def test_former_counterexample_fails_with_the_defect(c):
+    """Negative control: with the seeded defect the same point is a counterexample again - judged by both rows of the
+    requirement (N5, session n). Holds at random_seed2026 and cma_seed2026; strict xfail at seeds 3 and 7 (_C_FORMER:
+    both cars off the road, the defect later)."""
+    sets = _sets(*c[1:])
+    worse, rows = _worse_by_the_rows(_run(BASE_ON, sets + NO_REAR_LIMITS), _run(BASE_OFF, sets))
+    assert worse, rows
 
 
 # Points where the car is already at or beyond the stable region when the blowout is found (issue #10 round 2):
@@ -69,10 +102,6 @@ REFUSAL_CASES = [
     ("random_seed3_r650", 108.07208996733212, 0.3648911275496011, 0.48289170602925424, 2, "follow", 650),
     ("cma_seed2026_r1000", 119.6, 0.3197, 0.4246, 2, "follow", 1000),
 ]
-
-
-def _run(name, sets):
-    return va.simulate(va.load_scenario(name, sets=sets))
 
 
 # Both points are rear-left blowouts whose car crosses the yaw bound rotating toward the blown side: since the
@@ -102,11 +131,18 @@ def test_refusal_fires_beyond_the_stable_region(refusal_case):
     assert not (refusal_case["defect"].trace["blowout_mode_index"] == bc.REFUSED).any()
 
 
+@pytest.mark.xfail(strict=True, reason=(
+    "N5 (session n, class C): judged by both rows of the requirement the defect (no refusal) is no longer worse than "
+    "the twin: both cars leave the road within the 5-s run (road deviation tie 3.978 m) and the defect leaves it 0.015 s "
+    "AFTER the twin at both points (earliness r650 27.805 vs 27.820 s, r1000 27.740 vs 27.755 s); the unclipped 13.488 "
+    "vs 12.918 m / 12.211 vs 11.740 m ranked distances beyond the road edge"))
 def test_refusal_much_less_worse_than_the_defect(refusal_case):
     """Negative control: without the refusal the point is a counterexample of the requirement (worse than none). It
     was > 1 m worse while the plant froze the sliding car at u = 0 (both twins); with the plant's low-speed tyres
-    (bffdbd8) the no-compensation twin slides on and the gap is 0.50-0.58 m, so the bound is the requirement's own."""
-    assert refusal_case["defect"].metrics[METRIC] > refusal_case["off"].metrics[METRIC]
+    (bffdbd8) the no-compensation twin slides on and the gap is 0.50-0.58 m, so the bound is the requirement's own.
+    N5 (session n): judged by both rows (road deviation + departure earliness): a strict xfail (reason)."""
+    worse, rows = _worse_by_the_rows(refusal_case["defect"], refusal_case["off"])
+    assert worse, rows
 
 
 def test_refusal_point_no_worse(refusal_case):
@@ -116,10 +152,16 @@ def test_refusal_point_no_worse(refusal_case):
     assert on.metrics["blowout_limit_code"] == 5 and on.metrics[METRIC] <= refusal_case["off"].metrics[METRIC]
 
 
+@pytest.mark.xfail(strict=True, reason=(
+    "N5 (session n, class C): judged by both rows the refusal (spin_front_flag = 0) TIES the twin exactly: both leave "
+    "the road (3.978 m) at the same instant (earliness r650 27.820 / 27.820 s, r1000 27.755 / 27.755 s); the 12.944 vs "
+    "12.918 m / 11.782 vs 11.740 m of before were distances beyond the road edge"))
 def test_refusal_point_worse_without_the_spin_front_rule(refusal_case):
     """Negative control (spin_front_flag = 0, the code before: refusal): the 30-40 ms build before the refusal leaves
-    the spinning car farther off than none (12.94 vs 12.92 m, 11.78 vs 11.74 m, the former strict xfail)."""
-    assert refusal_case["refused"].metrics[METRIC] > refusal_case["off"].metrics[METRIC]
+    the spinning car farther off than none (12.94 vs 12.92 m, 11.78 vs 11.74 m, the former strict xfail).
+    N5 (session n): judged by both rows: a strict xfail (reason)."""
+    worse, rows = _worse_by_the_rows(refusal_case["refused"], refusal_case["off"])
+    assert worse, rows
 
 
 def test_rear_blowout_in_curve_wheel_held_stays_in_lane():
@@ -224,9 +266,15 @@ def test_rear_spin_point_no_worse(spin_case):
     assert abs(float(on.trace["yaw_rate_radps"][-1])) < 5.0 * 3.14159 / 180.0
 
 
+@pytest.mark.xfail(strict=True, reason=(
+    "N5 (session n, class C): judged by both rows the refusal (spin_front_flag = 0) is no longer worse than the twin: "
+    "both spin off the road within the 5-s run (road deviation tie 3.978 m), the refusal 0.025 s (seed42) / 0.060 s (f3) "
+    "AFTER the twin (earliness 28.045 vs 28.070 s, 28.120 vs 28.180 s; unclipped 18.837 vs 18.173, 21.734 vs 20.722 m)"))
 def test_rear_spin_point_worse_without_the_spin_front_rule(spin_case):
-    """Negative control (spin_front_flag = 0 = the refusal, the code before): a counterexample again."""
-    assert spin_case["defect"].metrics[METRIC] > spin_case["off"].metrics[METRIC]
+    """Negative control (spin_front_flag = 0 = the refusal, the code before): a counterexample again. N5 (session n):
+    judged by both rows: a strict xfail (reason)."""
+    worse, rows = _worse_by_the_rows(spin_case["defect"], spin_case["off"])
+    assert worse, rows
 
 
 # Grid of rear blowouts (session 2026-11-24 e, R: RL/RR x 80/100/120 km/h x friction scale 0.3/0.45/0.6/0.684 x held/
@@ -252,9 +300,16 @@ def test_spin_grid_point_no_worse(spin_grid_case):
     assert on.metrics["blowout_limit_code"] == 5 and on.metrics[METRIC] <= spin_grid_case["off"].metrics[METRIC]
 
 
+@pytest.mark.xfail(strict=True, reason=(
+    "N5 (session n, class C): judged by both rows the refusal (spin_front_flag = 0) is no longer worse than the twin: "
+    "both leave the road within the 5-s run (road deviation tie 3.978 m), the refusal AFTER the twin by 0.030 / 0.050 / "
+    "0.035 s (earliness rl100 28.005 vs 28.035, rl120 27.945 vs 27.995, rr120 27.880 vs 27.915 s; unclipped 18.251 vs "
+    "17.541, 15.957 vs 15.269, 16.475 vs 16.177 m)"))
 def test_spin_grid_point_worse_without_the_spin_front_rule(spin_grid_case):
-    """Negative control: spin_front_flag = 0 (the refusal) is a counterexample at these points."""
-    assert spin_grid_case["defect"].metrics[METRIC] > spin_grid_case["off"].metrics[METRIC]
+    """Negative control: spin_front_flag = 0 (the refusal) is a counterexample at these points. N5 (session n): judged
+    by both rows: a strict xfail (reason)."""
+    worse, rows = _worse_by_the_rows(spin_grid_case["defect"], spin_grid_case["off"])
+    assert worse, rows
 
 
 # F's random seed 7 #7 (round 7, envelope data/envelopes/tire_blowout.toml): RL 110.1 km/h, friction scale 0.48, light

@@ -73,9 +73,19 @@ def test_38_no_worse_than_without_compensation(runs38):
     assert on <= none, (on, none)
 
 
+@pytest.mark.xfail(strict=True, reason=(
+    "N5 (session n, class C): judged to standstill by both rows of the requirement the defect (rear_braking_flag = 0) "
+    "is no longer worse than the twin: both leave the road (road deviation tie 3.978 m), the defect 0.080 s AFTER the "
+    "twin (earliness 26.455 vs 26.535 s; unclipped 4.719 vs 4.264 m beyond the road edge); the rule keeps the car on "
+    "the road (2.315 m: +1.663 m / +26.455 s against the defect)"))
 def test_38_defect_is_worse_than_without_compensation(runs38):
-    """The seeded defect (the code before) reproduces R2's counterexample: the check above can fail."""
-    assert runs38["defect"].metrics[METRIC] > runs38["none"].metrics[METRIC]
+    """The seeded defect (the code before) reproduces R2's counterexample: the check above can fail. N5 (session n):
+    judged as the requirement judges (tests/support.never_worse_rows, both rows; the unclipped run max ranked distances
+    beyond the road edge): a strict xfail with the numbers (reason)."""
+    from tests.support import never_worse_rows
+
+    rows = never_worse_rows(runs38["defect"], runs38["none"])
+    assert min(rows.values()) < 0.0, rows
 
 
 def test_38_compensating_rear_keeps_the_drivers_pressure(runs38):

@@ -179,14 +179,33 @@ P64 = {"speed": 89.02332255146646, "mu": 0.4071765867390207, "delay": 0.20322285
        "driver": "fixed", "curve": "r650", "fault": "inlet_stuck_fr", **_COMMON}
 
 
+@pytest.mark.xfail(strict=True, reason=(
+    "N5 (session n, class B): judged to standstill by both rows of the requirement the shipped value 3 (bitwise flag 0 "
+    "here: the gate hands the point to the code before) is worse than the twin: all cars leave the road (road deviation "
+    "tie 3.978 m), value 3 0.055 s BEFORE the twin (earliness 27.860 vs 27.805 s; robustness -0.055 s; unclipped "
+    "8.189 vs 8.339 m, beyond the road edge); value 2 0.090 s before the twin (27.895 s)"))
 def test_64_curve_gate(env):
     """Value 3's gate (L2's curve gate of front_substitute_rear: a curve steered toward the blown side beyond
     yaw_deadband): never worse than the twin at #64 (measured 8.189 <= 8.339 m, = flag 0), while value 2 is worse
-    than the twin (8.884 m): removing the curve gate fails this test."""
-    none = _run(env, P64, baseline=True).metrics[METRIC]
-    on = _run(env, P64, sets=ON).metrics[METRIC]
-    v2 = _run(env, P64, sets=V2).metrics[METRIC]
-    assert on <= none < v2, (on, none, v2)
+    than the twin (8.884 m): removing the curve gate fails this test. N5 (session n): judged by both rows
+    (tests/support.never_worse_rows): the first half fails (reason); the gate's own effect is the next test."""
+    from tests.support import never_worse_rows
+
+    none = _run(env, P64, baseline=True)
+    rows = never_worse_rows(_run(env, P64, sets=ON), none)
+    assert min(rows.values()) >= 0.0, rows
+    assert min(never_worse_rows(_run(env, P64, sets=V2), none).values()) < 0.0
+
+
+def test_64_without_the_curve_gate_worse(env):
+    """N5 (session n, split from test_64_curve_gate): removing the curve gate (value 2) is worse, by both rows of the
+    requirement, than the twin AND than the shipped value 3: value 2 leaves the road 0.090 s before the twin and 0.035 s
+    before value 3 (earliness 27.895 vs 27.805 / 27.860 s; road deviation tie 3.978 m). Thin (35 ms), measured."""
+    from tests.support import never_worse_rows
+
+    v2 = _run(env, P64, sets=V2)
+    assert min(never_worse_rows(v2, _run(env, P64, baseline=True)).values()) < 0.0
+    assert min(never_worse_rows(v2, _run(env, P64, sets=ON)).values()) < 0.0
 
 
 def test_stuck_front_premise_trapped_pressure(env):
@@ -199,13 +218,20 @@ def test_stuck_front_premise_trapped_pressure(env):
     assert on == defect, (on, defect)
 
 
-@pytest.mark.xfail(strict=True, reason="RM1 open item: the 5 s window (max_duration_s) hides #318's late drift")
 def test_318_never_worse_to_8s(env):
     """RM1: #318 judged over 8 s instead of the envelope's 5 s. Limiting the only braked front leaves the car at 16.8
     m/s at 5 s (twin -8.8, spun) still yawing -0.08 rad/s toward the blown side with fixed steering: 17.894 vs 18.023 m
     at 6 s, 23.456 vs 18.266 at 7 s, 28.396 vs 18.280 at 8 s (flag 0 22.363). Strict xfail: it passes the day the rule
-    (or the horizon) is fixed, and then this marker must go."""
+    (or the horizon) is fixed, and then this marker must go.
+    N5 (session n, class D): judged as the requirement judges (tests/support.never_worse_rows, both rows) the 8-s run
+    passes: both cars leave the road (road deviation tie 3.978 m; 28.396 vs 18.280 m unclipped, beyond the road edge),
+    the function's car 0.450 s AFTER the twin (earliness 27.755 vs 28.205 s) - the same at the envelope's own horizon
+    (to standstill, 11.2 / 12.2 s). The marker is gone."""
+    from tests.support import never_worse_rows
+
     sets = ("run.duration_s=8",)
-    none = va.simulate(env.scenario(P318, baseline=True).with_sets(*sets), requirements=False).metrics[METRIC]
-    on = va.simulate(env.scenario(P318).with_sets(*(ON + sets)), requirements=False).metrics[METRIC]
-    assert on <= none, (on, none)
+    none = va.simulate(env.scenario(P318, baseline=True).with_sets(*sets), requirements=False)
+    on = va.simulate(env.scenario(P318).with_sets(*(ON + sets)), requirements=False)
+    assert float(on.trace["time_s"][-1]) == pytest.approx(8.0)
+    rows = never_worse_rows(on, none)
+    assert min(rows.values()) >= 0.0, rows
