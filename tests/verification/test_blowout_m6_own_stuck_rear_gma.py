@@ -97,7 +97,7 @@ def test_flag_out_of_range_is_a_one_line_error(env):
     """Bad input: a clear one-line error, no traceback."""
     from vehicle_assist.scenarios.errors import InputError
     with pytest.raises(InputError) as e:
-        envelope_point_run(env, P13, sets=("vehicle.esp.gma_pressure_order_flag=3",))
+        envelope_point_run(env, P13, sets=("vehicle.esp.gma_pressure_order_flag=4",))
     assert "\n" not in str(e.value) and "gma_pressure_order_flag" in str(e.value)
 
 

@@ -716,7 +716,18 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         elif (p.esp_gma_pressure_order_flag > 0.5 and blown >= 2 and g == 3 - blown
               and wheels[g, A_P_EST] < wheels[1 - g, A_P_EST] - RAMP_SETTLED_PA
               and (p.esp_gma_pressure_order_flag < 1.5
-                   or (meas.inlet_valve_rl_ok if blown == 2 else meas.inlet_valve_rr_ok) < 0.5)):
+                   or (meas.inlet_valve_rl_ok if blown == 2 else meas.inlet_valve_rr_ok) < 0.5
+                   or (p.esp_gma_pressure_order_flag > 2.5 and int(wheels[1 - g, A_MODE]) == abs_fn.OFF
+                       and wheels[1 - g, A_P_EST] >= p_mc - RAMP_SETTLED_PA))):
+            # (value 3, N6: value 2 OR the other front - the one whose ABS started the GMA - has left ABS (its ABS mode
+            # OFF: the pulsed re-build ended) at the driver's pressure (estimate within RAMP_SETTLED_PA of p_mc; the
+            # estimate alone runs ahead of a pulsed re-build - rb13 #114: FR 19.5 bar true, estimate >= 23.5, at
+            # 1.53 s): that front carries the full driver's
+            # pressure without a lock below it, so the ESP's own numbers no longer show it as the low-mu side and the
+            # GMA's premise (delay the high-mu front while the other is held at its lower lock level) is gone. rb5
+            # #72: FR's one-period noise dump, re-built to the driver's 46 bar by 1.45 s, FL held at 20-23 bar to
+            # 2.2 s. While the ABS front is still below the driver's pressure (re-building to its lock level, as at
+            # rb13 #114 - FR 8-24 bar under p_mc 24.5 with FL held at 10.9 bar in BOTH cars) the GMA stays as before)
             # (value 2, M6: only while the blown rear's OWN inlet is diagnosed stuck closed - that rear is unbraked in
             # the car without the function too, so the fronts are the only brakes the two cars can differ on; value 1
             # everywhere added a new violation where the OTHER rear was stuck, t_r41 #51, L7)

@@ -133,7 +133,7 @@ class SedanEsp(Strict):
     # other front's estimate (by > 1 bar, no yaw toward its side beyond the hold rate) re-builds in pulses (ABS build)
     # instead of the GMA hold/pulse - a candidate NOT shipped (one new faultsT violation); 0 = the code before
     # (tire_blowout_findings.md L7)
-    gma_pressure_order_flag: Annotated[int, Field(ge=0, le=2)] = 0
+    gma_pressure_order_flag: Annotated[int, Field(ge=0, le=3)] = 0
     # 1 = with a blown or TPMS-named REAR the GMA follow (gma_follow_flag) still applies to the GMA's front (only a blown
     # front's release is the fronts' one-sided ABS activity); 0 = the code before (tire_blowout_findings.md J4, RJ1: J4's
     # value 1 (also gma_hba_flag's cap, not shipped) removed; the shipped rule was J4's value 2)
