@@ -488,6 +488,12 @@ class Envelope:
         return u, [self.unit_to_point(row) for row in u]
 
     # -- scenarios -------------------------------------------------------------------------------
+    @cached_property
+    def _fixed_run(self) -> frozenset:
+        """The run settings the user fixed (--set run.duration_s=..., or the file's own ``sets``): they stand over an
+        option's (the braking option's standstill run), which would otherwise replace them without a word."""
+        return frozenset(s.split("=", 1)[0].strip() for s in self.model.sets if s.strip().startswith("run."))
+
     def sets(self, point: dict, baseline: bool = False) -> list[str]:
         """The dotted overrides of the base scenario that make ``point`` (and its no-assist twin)."""
         m = self.model
@@ -514,9 +520,7 @@ class Envelope:
                 p, k = d.name.split(".", 1)
                 params[p][k] = point[d.name]
         appended: list = []
-        # a run setting the user fixed (--set run.duration_s=..., or the file's own `sets`) stands over an option's (the
-        # braking option's standstill run): otherwise the --set would be ignored on those points without a word
-        fixed_run = {s.split("=", 1)[0].strip() for s in m.sets if s.strip().startswith("run.")}
+        fixed_run = self._fixed_run
         for name, c in m.choices.items():
             if name not in point:
                 continue
@@ -606,7 +610,9 @@ class Envelope:
                 point = dict(centre, **{d.name: value})
                 if fixed:
                     point.update({c: opts[0] for c, opts in r.when.items()})
-                for under in [None] + [(c, o) for c, o in run_choices if c != d.name and c not in fixed]:
+                # (the point's own option of such a choice is the plain build: not built twice)
+                for under in [None] + [(c, o) for c, o in run_choices
+                                       if c != d.name and c not in fixed and point.get(c) != o]:
                     p = dict(point, **{under[0]: under[1]}) if under else point
                     for baseline in (False, True):
                         try:
