@@ -214,3 +214,51 @@ def test_36_blown_side_rear_not_above_the_substitute(runs36):
     assert on <= PAIR_MARGIN_PA, on / 1e5
     defect = _rear_pair_excess_limited(runs36["defect"])
     assert defect > PAIR_MARGIN_PA, defect / 1e5
+
+
+# O3's targeted search on the rule's premise, right-hand curves (a FRONT blown, the other front's inlet stuck, braking):
+# falsify tire_blowout_faults_right -r <row> --optimizer random --seed 613 -n 128 -b 64 -R wheel=fl,fr
+# -R fault=inlet_stuck_fl,inlet_stuck_fr -R braking=brakes -R fault_time=0..1, #23: FL blown, FR stuck at 0.13 s,
+# RIGHT curve rr1000 (steered AWAY from the blown side: the release acts), lane follower, 53 km/h, mu 0.345, pedal 0.10
+# from 0.76 s. Measured at main 8594568 (pt.py): flag 0: RL 59.8-79.2 bar against the substitute RR's 36-42 bar from
+# 1.5 s to 5.5 s, 1.374 m; shipped: RL released to 1.9 bar at 1.5 s, then <= RR (26.7 vs 35.8 bar at 2 s), 0.595 m;
+# twin (same fault, rear select-low 32-43 bar): 1.211 m. All on the road. Rows (twin - car): flag 0 row 1 -0.164 m,
+# row 2 0; shipped row 1 +0.615 m, row 2 0 - a control where the shipped rule passes BOTH rows.
+P23R = {"speed": 53.1719253025549, "mu": 0.3452102892403405, "delay": 0.3509857197166382,
+        "wheel_speed_noise": 0.22975422421378303, "noise_seed": 9687.0, "brake_gain": 0.8277590146746252,
+        "accumulator": 61.594901424201005, "fault_time": 0.1303385246488744, "brake.start_s": 0.7564491989150415,
+        "brake.level_frac": 0.09539235681725507, "brake.rate_per_s": 12.090429360039037, "braking": "brakes",
+        "wheel": "fl", "driver": "follow", "curve": "rr1000", "fault": "inlet_stuck_fr"}
+
+
+@pytest.fixture(scope="module")
+def runs23r():
+    e = load_envelope("tire_blowout_faults_right")
+    return {"on": _run(e, P23R), "defect": _run(e, P23R, sets=DEFECT), "none": _run(e, P23R, baseline=True)}
+
+
+def test_23r_defect_is_worse_than_without_compensation(runs23r):
+    """Negative control, right-hand curve: the code before (flag 0) is worse than the twin with the same fault in row
+    no_worse_than_no_compensation, all cars on the road (1.374 vs 1.211 m, -0.164 m)."""
+    from tests.support import never_worse_rows
+
+    rows = never_worse_rows(runs23r["defect"], runs23r["none"])
+    assert min(rows.values()) < 0.0, rows
+
+
+def test_23r_never_worse_than_without_compensation(runs23r):
+    """The rule passes both rows there (0.595 vs 1.211 m, no departure; flag 0: row 1 -0.164 m, so this assertion
+    fails at the defect value)."""
+    from tests.support import never_worse_rows
+
+    rows = never_worse_rows(runs23r["on"], runs23r["none"])
+    assert min(rows.values()) >= 0.0, rows
+
+
+def test_23r_blown_side_rear_not_above_the_substitute(runs23r):
+    """Mechanism: in LIMITED code 1 with the pedal the blown side's rear (RL) is held at no more than the substitute RR
+    (median, + the 1-bar margin and one pump period); at flag 0 the pump lifts it 20-37 bar above RR."""
+    on = _rear_pair_excess_limited(runs23r["on"])
+    assert on <= PAIR_MARGIN_PA, on / 1e5
+    defect = _rear_pair_excess_limited(runs23r["defect"])
+    assert defect > PAIR_MARGIN_PA, defect / 1e5
