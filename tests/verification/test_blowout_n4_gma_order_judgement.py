@@ -27,7 +27,7 @@ from vehicle_assist.verification.envelope import load_envelope
 ROAD = "blowout_lateral_deviation_road_max_m"
 EARLY = "blowout_road_departure_earliness_s"
 ON = ("vehicle.esp.gma_pressure_order_flag=1",)  # L7's candidate
-SHIPPED = ("vehicle.esp.gma_pressure_order_flag=2",)  # M6's narrowing (SUV, shipped): #72 untouched
+SHIPPED = ("vehicle.esp.gma_pressure_order_flag=2",)  # M6's narrowing (the SUV's value until session o, which ships N6's 3): #72 untouched
 DEFECT = ("vehicle.esp.gma_pressure_order_flag=0",)  # the code before
 # /tmp/lead/n/h1/rb5/falsify.json history #72 (random 5 -n 128 -b 64 -R braking=brakes)
 P72 = {"speed": 99.99149704319854, "mu": 0.5217520232282564, "delay": 0.4579899484382917,
