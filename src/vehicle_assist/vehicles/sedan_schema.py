@@ -478,8 +478,8 @@ class SedanBlowoutCompensation(Strict):
     # (session o, O4) a blown FRONT whose side's REAR inlet is diagnosed stuck (limit code 6, blown_side_front): the
     # braking rule's counter-brake front takes its share (braking_share_frac x the driver's pressure) inside the yaw
     # dead band too, instead of being held where it is; beyond the dead band the gate stays; 0 = the code before
-    # (findings O4)
-    blown_side_stop_flag: Annotated[int, Field(ge=0, le=1)] = 0
+    # (findings O4); default = the SUV's shipped value, as for the other flags (the sedan ships the compensation off)
+    blown_side_stop_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
