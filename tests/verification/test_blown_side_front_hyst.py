@@ -45,7 +45,11 @@ def _run(env, point, flag=None, baseline=False):
 @pytest.fixture(scope="module")
 def runs():
     env = load_envelope("tire_blowout_faults")
-    out = {"154": {"shipped": _run(env, P154), "defect": _run(env, P154, 0), "none": _run(env, P154, baseline=True)}}
+    out = {"154": {"shipped": _run(env, P154), "defect": _run(env, P154, 0), "none": _run(env, P154, baseline=True),
+                   # (session o, O4) the shipped flags with blown_side_stop_flag 0: that rule acts on code 6, which
+                   # value 3 writes whether or not its gate opens (value 0 never writes it)
+                   "shipped_o4off": envelope_point_run(env, P154, False,
+                                                       ("vehicle.blowout_compensation.blown_side_stop_flag=0",))}}
     for name, pt in (("137", P137), ("137m", P137_MIRROR)):
         out[name] = {"shipped": _run(env, pt), "none": _run(env, pt, baseline=True)}
     return out
@@ -74,7 +78,9 @@ def test_154_gate_never_opens_so_the_code_before(runs):
     """The rule's statement: the yaw error at #154 stays inside the ESP's hold rate (-0.017..+0.006 rad/s against
     0.035), so value 3 never opens its gate and must run as flag 0 (the code before) bit for bit. Value 2 does not:
     its dead-band gate opens at the edge (0.786 vs 0.633 m)."""
-    r = runs["154"]["shipped"]
+    # (session o, O4) compared with blown_side_stop_flag 0: this statement is M2b's gate's; O4's rule acts inside the
+    # dead band on code 6, which value 3 writes and value 0 does not (findings O4)
+    r = runs["154"]["shipped_o4off"]
     for w in ("fl", "fr", "rl", "rr"):
         assert np.array_equal(np.asarray(r.trace[f"wheel_pressure_{w}_pa"]),
                               np.asarray(runs["154"]["defect"].trace[f"wheel_pressure_{w}_pa"])), w

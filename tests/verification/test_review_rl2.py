@@ -204,7 +204,12 @@ def test_blown_front_with_its_side_rear_stuck_keeps_the_paper_release_at_the_shi
 
     env = load_envelope("tire_blowout_faults")
     point = dict(P360, wheel="fr", fault="inlet_stuck_rr")
-    r = va.simulate(env.scenario(point), requirements=False)  # the vehicle file's shipped flags
+    # the vehicle file's shipped flags but (session o, O4) blown_side_stop_flag 0: with O4's rule the counter-brake FL
+    # takes its share inside the dead band and from 3.3 s the blown FR is braked 6-11 bar (wheel mode 4, not traced to
+    # its rule: no curve, so not blown_front_hold); road max 0.143 m vs 0.062 at 0 (twin 0.677), both rows pass
+    # (findings O4, left). This test's statement (L1's stand-down never reaches a blown front) is blown_side_fault's
+    r = va.simulate(env.scenario(point).with_sets("vehicle.blowout_compensation.blown_side_stop_flag=0"),
+                    requirements=False)
     t = np.asarray(r.trace["time_s"])
     w = (t >= 1.4) & (t <= 3.5)
     assert np.max(np.asarray(r.trace["brake_pedal_frac"])) > 0.3  # the driver brakes (the rule's condition)

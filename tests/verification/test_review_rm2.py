@@ -63,13 +63,19 @@ def runs():
     return out
 
 
-@pytest.mark.xfail(strict=True, reason=(
+_N1_RM2 = (
     "N1 (session n): judged to standstill blown_side_front_flag = 2 is worse than the twin with the same fault: #137 the "
     "function's car leaves the road (run max 4.646 m, departure at t_b + 7.6 s) where the twin stays on (2.229 m): "
     "robustness -1.749 m / -22.420 s; mirror -1.615 m / -22.390 s (4.625 vs 2.363 m); #95 2.971 vs 0.625 m (-2.346 m, "
     "both on the road; flag 0 2.902 m); the function's car stops 11.4 / 16.1 s after the start against the twin's "
-    "8.2 / 9.6 s and drifts on (at 5 s no worse)"))
-@pytest.mark.parametrize("name", ["137", "137m", "95"])
+    "8.2 / 9.6 s and drifts on (at 5 s no worse)")
+
+
+# (session o, O4) #95 passes with blown_side_stop_flag 1 (the counter-brake front takes its share inside the dead band
+# while code 6): value 2 0.460 m vs the twin's 0.625 (blown_side_stop 0: 2.971); #137 / #137m stay N1's losses
+@pytest.mark.parametrize("name", [pytest.param("137", marks=pytest.mark.xfail(strict=True, reason=_N1_RM2)),
+                                  pytest.param("137m", marks=pytest.mark.xfail(strict=True, reason=_N1_RM2)),
+                                  "95"])
 def test_never_worse_both_sides_and_the_gated_curve_point(runs, name):
     """Never worse than the car without the function with the same fault, on #137 (FL), its mirror (FR) and #95
     (left curve, late pedal: the gate's point). Flag 0: #137 2.579 vs 1.559 m, mirror 2.693 vs 1.636 m. Session n

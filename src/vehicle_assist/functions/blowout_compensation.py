@@ -2395,7 +2395,18 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
     if toward < -p.blowout_compensation_yaw_deadband_radps:
         st[S_P_BRAKE] = p_floor
     elif toward < p.blowout_compensation_yaw_deadband_radps:
-        st[S_P_BRAKE] = min(max(p_est[tg], p_floor), p_full) if toward < 0.0 else p_full
+        if (p.blowout_compensation_blown_side_stop_flag > 0.5 and st[S_LIMIT_CODE] == LIMIT_BLOWN_SIDE):
+            # (blown_side_stop_flag, session o O4) a blown FRONT whose side's REAR inlet is stuck (code 6, written by
+            # blown_side_fault under the pedal): the paper's release of the blown front and the stuck rear leave the
+            # blown side without any brake, so eq. 9 with F_rl = 0 makes this front and the free rear the car's only
+            # brakes. Held where it is inside the dead band, the front stayed at the balance for the whole stop (t_r41
+            # #474: FR 2.3 bar against the driver's 72 for 12 s, 1.7 m/s^2 vs the twin's 4.7, the car left the road
+            # 8.4 s after the blowout). Inside the closed-loop dead band an ESP does not act on the driver's braking
+            # (van Zanten, SAE 2000-01-1633; Bosch Automotive Handbook, ESP): the share is taken; beyond the dead
+            # band away from the blown side the gate above still returns the wheel to the balance
+            st[S_P_BRAKE] = p_full
+        else:
+            st[S_P_BRAKE] = min(max(p_est[tg], p_floor), p_full) if toward < 0.0 else p_full
     else:
         st[S_P_BRAKE] = p_full
     if st[S_MU_MEAS] > 0.0:

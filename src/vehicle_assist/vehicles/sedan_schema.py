@@ -475,6 +475,11 @@ class SedanBlowoutCompensation(Strict):
     # rear's inlet stuck); 0 = the code before (the re-build stopped at the plan; findings N3)
     # 2 (candidate, review R3, not shipped): 1 with the rule's state started afresh when its wheel changes (findings R3)
     substitute_braking_flag: Annotated[int, Field(ge=0, le=2)] = 1
+    # (session o, O4) a blown FRONT whose side's REAR inlet is diagnosed stuck (limit code 6, blown_side_front): the
+    # braking rule's counter-brake front takes its share (braking_share_frac x the driver's pressure) inside the yaw
+    # dead band too, instead of being held where it is; beyond the dead band the gate stays; 0 = the code before
+    # (findings O4); default = the SUV's shipped value, as for the other flags (the sedan ships the compensation off)
+    blown_side_stop_flag: Annotated[int, Field(ge=0, le=1)] = 1
 
     @model_validator(mode="after")
     def _order(self):
