@@ -110,3 +110,44 @@ def test_defect_gives_the_gain_away(runs, defect):
     assert runs[defect].metrics["blowout_lateral_deviation_road_max_m"] >= ROAD_EDGE_M - 1e-6
     if defect == "sf0":
         assert any(m == "REFUSED" and why == "beyond_stable_region" for _, m, why in _events(runs[defect]))
+
+
+# ---- spin_front_flag: the one point found where the defect VIOLATES a row and the shipped rule passes --------------
+# tire_blowout_right random seed 103 -n 256 -b 64 -R wheel=rl,rr -R mu=0.3..0.55 -R speed=90..120 (O5 search rrR,
+# /tmp/o5/s/rrR), history #48: RR 113.4 km/h, mu scale 0.432, 650 m RIGHT curve (toward RR), following driver, pedal
+# 0.37 at 17.2 /s from 1.69 s, detection delay 0.454 s (run to standstill). The car is already beyond the stable region
+# rotating toward RR at the detection (1.49 s). Shipped: spin-front (code 5) from 1.49 s, 2.001 m, on the road, turned
+# 22 deg (rows +1.977 m, +27.675 s). spin_front_flag = 0: REFUSED beyond_stable_region at 1.49 s, spins 130 deg, off the
+# road at earliness 27.720 s vs the twin's 27.675 (turned 129 deg): 0.045 s BEFORE the twin (row 2 -0.045 s; row 1 tie
+# 0.000 m). Thin (45 ms) - the only one in 1,568 + 1,024 points searched (findings O5).
+RR48 = {"speed": 113.37571886105383, "mu": 0.4315668876236098, "delay": 0.4543408052141435,
+        "wheel_speed_noise": 0.030846082565241184, "noise_seed": 8079.0, "brake_gain": 1.1768166217484048,
+        "brake.start_s": 1.6925085154505712, "brake.level_frac": 0.36691476408901524,
+        "brake.rate_per_s": 17.150096367295493, "braking": "brakes", "wheel": "rr", "driver": "follow",
+        "curve": "rr650"}
+
+
+@pytest.fixture(scope="module")
+def runs_rr48():
+    env = load_envelope("tire_blowout_right")
+    return {"shipped": envelope_point_run(env, RR48, sets=SHIPPED_SETS), "sf0": envelope_point_run(env, RR48, sets=SF0),
+            "twin": envelope_point_run(env, RR48, baseline=True)}
+
+
+def test_rr48_shipped_never_worse(runs_rr48):
+    """Shipped: both rows >= 0 against the twin (measured +1.977 m, +27.675 s: on the road, 2.001 m), spin-front."""
+    rows = never_worse_rows(runs_rr48["shipped"], runs_rr48["twin"])
+    assert min(rows.values()) >= 0.0, rows
+    assert runs_rr48["shipped"].metrics["blowout_limit_code"] == 5
+
+
+def test_rr48_defect_leaves_the_road_before_the_twin(runs_rr48):
+    """Negative control (spin_front_flag = 0, the refusal, the code before): worse than the twin by the rows - it leaves
+    the road 0.045 s earlier (row 2 -0.045 s, measured); refused beyond the stable region at the detection and spun
+    (more than 90 deg: 130 deg measured)."""
+    d = runs_rr48["sf0"]
+    rows = never_worse_rows(d, runs_rr48["twin"])
+    assert rows[ROW2] < 0.0, rows
+    assert any(m == "REFUSED" and why == "beyond_stable_region" for _, m, why in _events(d))
+    h = np.asarray(d.trace["heading_rad"])
+    assert np.max(np.abs(h - h[0])) > np.pi / 2
