@@ -841,7 +841,14 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             row = T_DONE
         elif hba_mode == hba.ACTIVE and (ctl[C_SOURCE_C1 + CIRCUIT[i]] == SRC_DRIVER or (
                 i >= 2 and ctl[C_SOURCE_C1 + CIRCUIT[i]] == SRC_UNDECIDED) or (
-                i == gma_wheel and blown < 0 and p.esp_gma_hba_flag > 0.5)):
+                i == gma_wheel and (blown < 0 or (tpms_only and blown < 2 and p.esp_gma_hba_named_front_flag > 0.5))
+                and p.esp_gma_hba_flag > 0.5)):
+            # (gma_hba_named_front_flag, session o O2; 0 = the code before = any known or suspected blown wheel ends it)
+            # also while a FRONT is only NAMED by the TPMS (excluded from the reference, the compensation not yet
+            # acting): the GMA's wheel keeps the driver's row - held with the circuit open and built in the GMA's
+            # pulses from the master cylinder, as without the function. In the HBA row its hold is isolated (HI) and
+            # its one-period pump pulses are shorter than the accumulator inlet's dead time (J4's finding for a named
+            # rear): the naming froze it (fb5 / rb5 #1: FR at 45.1 bar to 1.7 s against the twin's 47.4)
             # a rear wheel is pumped above its proportioned driver pressure only once the pump has had to lift its
             # circuit's front wheel (pumping it while the front still rebuilt below the driver put the rear into ABS
             # cycling the car without HBA does not have)
@@ -945,6 +952,33 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
                 if wheels[i, A_P_EST] > bst[bc.S_REAR_CAP] + 1.0e5:
                     wm = W_D
                 elif wheels[i, A_P_EST] >= bst[bc.S_REAR_CAP]:
+                    wm = W_H
+        elif (abs_ok and brake_rule and p.blowout_compensation_blown_side_front_cap_flag > 0.5 and bls and i < 2
+              and int(bst[bc.S_BLOWN]) >= 2 and i == int(bst[bc.S_BLOWN]) - 2 and blow_req[i] == bc.Q_NONE
+              and (int(bst[bc.S_MODE]) == bc.BUILD or int(bst[bc.S_MODE]) == bc.HOLD)
+              and (p.blowout_compensation_blown_side_front_cap_flag < 1.5 or bc.toward_blown_side(
+                  int(bst[bc.S_BLOWN]), meas.yaw_rate_radps - bc.reference_yaw_rate(meas.steering_angle_rad, v_ref, p))
+                  > p.blowout_compensation_yaw_deadband_radps)):
+            # (blowout_compensation.blown_side_front_cap_flag, session o O2) a detected REAR blowout while the driver
+            # brakes: the blown side's FRONT is held at no more than the other front's pressure (ABS hold, circuit open),
+            # dumped above it by more than 1 bar; ABS's own hold/dump win. Paper 004 eqs. 26-28 balance the blown rear's
+            # drag with the opposite rear on top of the driver's pressure p_0, on the premise that the other wheels brake
+            # alike; a blown-side front braked above the other front adds a moment toward the blown side the balance does
+            # not contain (the front-axle select-low of the ESP's yaw-moment limitation, Bosch Automotive Handbook ABS)
+            # Value 2: only while the yaw error (measured yaw rate - the steered reference, the compensation's own yaw
+            # judgement) points toward the blown side beyond yaw_deadband (1 deg/s; the braking rule's gate): value 1
+            # ungated over-compensated a follower on a straight road (r23 #23, the car yawed away and spun, findings O2)
+            # Value 3: value 2 with the hold at 1 bar ABOVE the other front (dump above it + 1 bar more): at 2 the hold
+            # began at equality, so at a pedal onset with both fronts building from the master together the blown
+            # side's front was held at the first period's level (0.1 bar; rb13 #39, the GMA then kept it at 9.8 bar
+            # against FR's 19-23) - equal fronts add no moment, the select-low has nothing to limit there
+            cap = wheels[1 - i, A_P_EST]
+            if p.blowout_compensation_blown_side_front_cap_flag > 2.5:
+                cap = cap + 1.0e5
+            if wm != W_D and wm != W_H and wm != W_HI:
+                if wheels[i, A_P_EST] > cap + 1.0e5:
+                    wm = W_D
+                elif wheels[i, A_P_EST] >= cap:
                     wm = W_H
         elif abs_ok and blow_req[i] != bc.Q_NONE:
             wm = BLOWOUT_ARBITRATION[blow_req[i], wm]

@@ -138,6 +138,9 @@ class SedanEsp(Strict):
     # front's release is the fronts' one-sided ABS activity); 0 = the code before (tire_blowout_findings.md J4, RJ1: J4's
     # value 1 (also gma_hba_flag's cap, not shipped) removed; the shipped rule was J4's value 2)
     gma_rear_named_flag: Annotated[int, Field(ge=0, le=1)] = 1
+    # (session o, O2) 1 = gma_hba_flag's driver row for the GMA's wheel also while a FRONT is only TPMS-named (before
+    # the detection); 0 = the code before (a named wheel put the GMA's wheel in the HBA row; findings O2)
+    gma_hba_named_front_flag: Annotated[int, Field(ge=0, le=1)] = 0
     # 1 = with a blown or TPMS-named REAR the GMA follow does not hold the blowout compensation's front at the other
     # front's pressure (the compensation's counter-moment is that difference); 0 = the code before
     # (tire_blowout_findings.md J8)
@@ -480,6 +483,12 @@ class SedanBlowoutCompensation(Strict):
     # dead band too, instead of being held where it is; beyond the dead band the gate stays; 0 = the code before
     # (findings O4); default = the SUV's shipped value, as for the other flags (the sedan ships the compensation off)
     blown_side_stop_flag: Annotated[int, Field(ge=0, le=1)] = 1
+
+    # (session o, O2) a detected REAR blowout while the driver brakes: the blown side's FRONT held at no more than the
+    # other front's pressure (functions/esp.py hold/dump, ABS wins); 2 = 1 only while the yaw error points toward the
+    # blown side beyond yaw_deadband; 3 = 2 held from 1 bar above the other front (not at equality); 0 = the code
+    # before (findings O2)
+    blown_side_front_cap_flag: Annotated[int, Field(ge=0, le=3)] = 0
 
     @model_validator(mode="after")
     def _order(self):
