@@ -57,7 +57,8 @@ def runs():
 
 _N1_STANDSTILL = (
     "N1 (session n): judged to standstill the shipped function is worse than the twin with the same fault, both cars on "
-    "the road (departure row 0 = 0): road deviation #154 3.603 vs 1.191 m (flag 0 the same 3.603), #137 3.357 vs "
+    "the road (departure row 0 = 0): road deviation #154 3.603 vs 1.191 m (flag 0 the same 3.603; session o, O4's "
+    "blown_side_stop_flag 1: 2.014 m, still worse - RO4), #137 3.357 vs "
     "2.229 m (flag 0 7.710 m, off the road), mirror 3.347 vs 2.363 m (flag 0 8.129 m); the function's car stops 13.5 / "
     "12.0 s after the start against the twin's 8.8 / 8.2 s and drifts on (at 5 s it was no worse)")
 

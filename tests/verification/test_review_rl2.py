@@ -205,9 +205,11 @@ def test_blown_front_with_its_side_rear_stuck_keeps_the_paper_release_at_the_shi
     env = load_envelope("tire_blowout_faults")
     point = dict(P360, wheel="fr", fault="inlet_stuck_rr")
     # the vehicle file's shipped flags but (session o, O4) blown_side_stop_flag 0: with O4's rule the counter-brake FL
-    # takes its share inside the dead band and from 3.3 s the blown FR is braked 6-11 bar (wheel mode 4, not traced to
-    # its rule: no curve, so not blown_front_hold); road max 0.143 m vs 0.062 at 0 (twin 0.677), both rows pass
-    # (findings O4, left). This test's statement (L1's stand-down never reaches a blown front) is blown_side_fault's
+    # takes its share inside the dead band and from 3.2 s the blown FR is braked (up to 56 bar, ABS-dumped); traced by
+    # RO4: blown_front_hold's Q_HOLD (the driver's counter-steer is a steered reference toward FR, FL now at its ABS
+    # limit) -> W_N, the driver's master pressure; with blown_front_hold_flag 0 FR stays 0 bar (test_review_ro4.py);
+    # road max 0.143 m vs 0.062 at 0 (twin 0.677), both rows pass (findings O4, RO4). This test's statement (L1's
+    # stand-down never reaches a blown front) is blown_side_fault's
     r = va.simulate(env.scenario(point).with_sets("vehicle.blowout_compensation.blown_side_stop_flag=0"),
                     requirements=False)
     t = np.asarray(r.trace["time_s"])
