@@ -2395,7 +2395,11 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
     if toward < -p.blowout_compensation_yaw_deadband_radps:
         st[S_P_BRAKE] = p_floor
     elif toward < p.blowout_compensation_yaw_deadband_radps:
-        if (p.blowout_compensation_blown_side_stop_flag > 0.5 and st[S_LIMIT_CODE] == LIMIT_BLOWN_SIDE):
+        if ((p.blowout_compensation_blown_side_stop_flag > 0.5 and st[S_LIMIT_CODE] == LIMIT_BLOWN_SIDE)
+                or p.blowout_compensation_stop_share_flag > 0.5):
+            # (stop_share_flag, session o O7) the same for every blown front under the pedal: inside the dead band
+            # the counter-brake front takes its share, not held where it last was (fb5 #18: FR frozen at 18-24 bar
+            # against the driver's 55 for 8 s, a latch value set by one ESP period; findings O7)
             # (blown_side_stop_flag, session o O4) a blown FRONT whose side's REAR inlet is stuck (code 6, written by
             # blown_side_fault under the pedal): the paper's release of the blown front and the stuck rear leave the
             # blown side without any brake, so eq. 9 with F_rl = 0 makes this front and the free rear the car's only
