@@ -1634,7 +1634,16 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
             if over:
                 st[S_SLIP_LIMITED] = 1.0
                 st[S_P_REQ] = max(min(st[S_P_REQ], p_est[tg]), st[S_P_START])
-                requests[tg] = Q_RELEASE if p_est[tg] > p_floor + PRESSURE_MARGIN_PA else Q_HOLD
+                lim_dump = (p.blowout_compensation_slip_limit_yaw_flag > 0.5 and mode == HOLD
+                            and requests[tg] == Q_RELEASE and p.blowout_compensation_closed_loop_flag < 0.5)
+                if not lim_dump:
+                    # (slip_limit_yaw_flag, session o O6; 0 = the code before: the floor's HOLD also overrode the
+                    # over-compensation limiter's dump) the limiter above dumps the compensating wheel while the car
+                    # yaws away from the blown side beyond the ESP's yaw dump rate - the ESP's limit on any
+                    # brake-induced yaw moment comes before the driver's-pressure floor of the slip limit (O6: rrL
+                    # #43, RL 90.8 km/h mu 0.36, RR held at 64 bar under the floor while the car yawed right at
+                    # 0.2-0.48 rad/s with RL released, off the road 26.1 s early; twin on, 2.56 m)
+                    requests[tg] = Q_RELEASE if p_est[tg] > p_floor + PRESSURE_MARGIN_PA else Q_HOLD
             elif mode == BUILD and st[S_SLIP_LIMITED] > 0.5:
                 requests[tg] = Q_HOLD  # once limited, the build does not start again: hold at the lowered target
         if p.blowout_compensation_tire_capacity_flag > 0.5 and st[S_LIMIT_CODE] != LIMIT_SPIN_FRONT:
@@ -2116,6 +2125,15 @@ def reject_heading_return(st, mode, braking, yaw_rate, v_ref, p_est, requests, p
     if abs(e) <= db:
         return
     w = heading_return_wheel(bb, e < 0.0)
+    if p.blowout_compensation_heading_return_abs_flag > 0.5 and st[S_ABS_ACTIVE + w] > 0.5:
+        # (heading_return_abs_flag, session o O6; 0 = the code before) no release of a front ABS holds at its lock
+        # level (a hold or dump in the last 0.3 s, spec 4.3, S_ABS_ACTIVE): the release's moment is eq. 28's
+        # b*K_b*dp/R only while the tire is in its linear region; at the lock level the tire's force is on the friction
+        # circle and a release turns brake force into LATERAL force (Kamm circle) - in a curve the freed front's
+        # cornering force turns the car INTO the curve, against the yaw the rule asks for (O6: fkR #26, a real FR flat
+        # rejected by the yaw, 118 km/h mu 0.34 1000 m right curve: the rule released FL then FR, the car spun
+        # right, 18.8 m off vs the twin's 0.97 m; findings O6). The wheel stays the driver's and ABS's.
+        return
     restricted = heading_return_own_restricted(st, p)
     if restricted and not heading_return_toward_reference(w, yaw_rate, p):
         return

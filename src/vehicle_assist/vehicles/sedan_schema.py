@@ -493,6 +493,14 @@ class SedanBlowoutCompensation(Strict):
     # before (findings O2)
     blown_side_front_cap_flag: Annotated[int, Field(ge=0, le=3)] = 0
 
+    # (session o, O6) reject_heading_return releases no front wheel ABS holds at its lock level (S_ABS_ACTIVE: a hold
+    # or dump in the last 0.3 s): there eq. 28's brake moment does not hold, the release frees the tire's lateral force
+    # (friction circle); 0 = the code before (findings O6)
+    heading_return_abs_flag: Annotated[int, Field(ge=0, le=1)] = 0
+    # (session o, O6) the rear slip limit's driver's-pressure floor (Q_HOLD) does not override the feed-forward
+    # over-compensation limiter's dump (HOLD, yaw away from the blown side beyond esp.yaw_dump_rate); 0 = the code before
+    slip_limit_yaw_flag: Annotated[int, Field(ge=0, le=1)] = 0
+
     @model_validator(mode="after")
     def _order(self):
         if not self.valve_dead_time_s < self.valve_t1_s < self.valve_t2_s:
