@@ -493,8 +493,8 @@ class SedanBlowoutCompensation(Strict):
     # (session o, O8) a blown FRONT with its OWN inlet stuck (own_stuck_front), braking, in a curve toward the blown
     # side: while the yaw falls short of the steered reference beyond the dead band (understeer) the compensating OUTER
     # front is released without the driver's pressure as floor; 2 = 1 with the shortfall judged as path curvature at
-    # the detection speed; 0 = the code before (findings O8)
-    own_stuck_understeer_flag: Annotated[int, Field(ge=0, le=2)] = 0
+    # the detection speed; 0 = the code before (findings O8); default = the SUV's shipped value
+    own_stuck_understeer_flag: Annotated[int, Field(ge=0, le=2)] = 2
 
     @model_validator(mode="after")
     def _order(self):
