@@ -1655,7 +1655,10 @@ def blowout_step(st, vw, v_ref, braking, a_x, yaw_rate_meas, steer_rad, tpms_whe
         braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, p, r_ref, a_y_meas, v_ref)
     if (p.blowout_compensation_own_stuck_front_flag > 0.5 and 0 <= b < 2 and tg == OPPOSITE[b]
             and inlet_ok[b] < 0.5 and braking > 0.5 and (mode == BUILD or mode == HOLD)):
-        own_stuck_front(st, b, tg, yaw_rate, p_est, p_mc, requests, p)
+        # (own_stuck_understeer_flag) the steered curve judged at the detection speed (S_GB_U0): the path curvature the
+        # driver asked as a yaw rate at that speed, which the stop's falling speed does not take inside the dead band
+        r_curve = reference_yaw_rate(steer_rad, st[S_GB_U0], p) if st[S_GB_U0] > 1.0 else r_ref
+        own_stuck_front(st, b, tg, yaw_rate, p_est, p_mc, requests, p, r_curve, v_ref)
     if (p.blowout_compensation_substitute_yaw_limit_flag > 0.5 and mode == LIMITED
             and st[S_LIMIT_CODE] == LIMIT_OTHER_AXLE and b >= 2 and 0 <= tg < 2):
         substitute_yaw_limit(b, tg, yaw_rate, p_est, requests, p, st)
@@ -1972,7 +1975,7 @@ def front_substitute_rear(b, tg, braking, yaw_err, r_ref, p_est, requests, p, st
 
 
 @nb.njit(cache=True, nogil=True, error_model="numpy")
-def own_stuck_front(st, b, tg, yaw_err, p_est, p_mc, requests, p):
+def own_stuck_front(st, b, tg, yaw_err, p_est, p_mc, requests, p, r_curve=0.0, v_ref=0.0):
     """``own_stuck_front_flag`` (0 = the code before; tire_blowout_findings.md L8, session l): a blown FRONT whose OWN
     inlet valve is diagnosed stuck closed, compensated on the other front (BUILD/HOLD) while the driver brakes. The
     blown wheel then carries no brake in the car WITHOUT the function either (the driver's pressure never reaches it):
@@ -1994,6 +1997,21 @@ def own_stuck_front(st, b, tg, yaw_err, p_est, p_mc, requests, p):
     if st[S_REAR_CAP] < 0.0 and p.blowout_compensation_own_stuck_front_flag < 1.5:
         st[S_REAR_CAP] = max(min(p_est[2], p_est[3]), 0.0) + PRESSURE_MARGIN_PA
     floor = max(p_mc, 0.0)
+    if p.blowout_compensation_own_stuck_understeer_flag > 0.5 and curve_toward_blown_side(b, r_curve, p):
+        # (own_stuck_understeer_flag, session o O8) the curve turns toward the blown (inner) front (the steered curvature
+        # at the detection speed, r_curve, beyond the dead band) and the yaw falls short of the steered reference beyond
+        # the dead band: understeer. The compensating front is the OUTER front, the
+        # wheel that carries the curve with the inner tire flat; an ESP answers understeer under braking by lowering the
+        # front's brake slip (more lateral force), never by braking the outer front (van Zanten SAE 2000-01-1633; Bosch
+        # Automotive Handbook, ESP). The driver's pressure is no floor here: the ABS-held level is itself the over-brake
+        # (fright_r41 #169: FL ABS-held at 40.7 bar under a 72-bar master, straight on in a right curve). Released
+        # (Q_RELEASE, ABS re-builds once the gate closes) while the shortfall lasts.
+        floor = 0.0
+        if p.blowout_compensation_own_stuck_understeer_flag > 1.5 and st[S_GB_U0] > 1.0:
+            # (value 2) the shortfall judged as path curvature too, at the detection speed (as r_curve): yaw_err *
+            # u_det / u. A fixed yaw-rate dead band shrinks the curvature it tolerates as the car stops (#169 at 10 m/s:
+            # 0.011 rad/s short = 75 % of the steered curve, inside the 0.0175 band, FL ABS-held at 42 bar)
+            yaw_err = yaw_err * st[S_GB_U0] / max(v_ref, 1.0)
     if toward_blown_side(b, yaw_err) < -p.blowout_compensation_yaw_deadband_radps:
         if st[S_P_BRAKE] > floor:
             st[S_P_BRAKE] = floor

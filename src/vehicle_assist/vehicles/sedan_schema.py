@@ -501,6 +501,12 @@ class SedanBlowoutCompensation(Strict):
     # over-compensation limiter's dump (HOLD, yaw away from the blown side beyond esp.yaw_dump_rate); 0 = the code before
     slip_limit_yaw_flag: Annotated[int, Field(ge=0, le=1)] = 0
 
+    # (session o, O8) a blown FRONT with its OWN inlet stuck (own_stuck_front), braking, in a curve toward the blown
+    # side: while the yaw falls short of the steered reference beyond the dead band (understeer) the compensating OUTER
+    # front is released without the driver's pressure as floor; 2 = 1 with the shortfall judged as path curvature at
+    # the detection speed; 0 = the code before (findings O8); default = the SUV's shipped value
+    own_stuck_understeer_flag: Annotated[int, Field(ge=0, le=2)] = 2
+
     @model_validator(mode="after")
     def _order(self):
         if not self.valve_dead_time_s < self.valve_t1_s < self.valve_t2_s:
