@@ -485,7 +485,7 @@ class SedanBlowoutCompensation(Strict):
     blown_side_stop_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # (session o, O7) a blown FRONT under the pedal (braking rule): 1 = the counter-brake front takes its share inside
     # the yaw dead band (blown_side_stop's premise for every blown front); 0 = the code before (findings O7)
-    stop_share_flag: Annotated[int, Field(ge=0, le=1)] = 0
+    stop_share_flag: Annotated[int, Field(ge=0, le=2)] = 0
 
     # (session o, O2) a detected REAR blowout while the driver brakes: the blown side's FRONT held at no more than the
     # other front's pressure (functions/esp.py hold/dump, ABS wins); 2 = 1 only while the yaw error points toward the
