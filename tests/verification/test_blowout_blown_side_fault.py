@@ -24,7 +24,12 @@ from tests.support import envelope_point_run
 
 METRIC = "blowout_lateral_deviation_run_max_m"
 ON = ("vehicle.blowout_compensation.blown_side_fault_flag=1",)
-DEFECT = ("vehicle.blowout_compensation.blown_side_fault_flag=0",)  # the code before
+DEFECT = ("vehicle.blowout_compensation.blown_side_fault_flag=0",  # the code before
+          # since session o the shipped slip_limit_yaw 1 (RO6) also catches this defect's spin: the over-compensation
+          # limiter's dump of RL is no longer vetoed by the slip limit's floor (defect 0.745 m, in the lane; with
+          # slip_limit_yaw 0: 13.237 m), so the control runs with that second guard off
+          "vehicle.blowout_compensation.slip_limit_yaw_flag=0")
+DEFECT_SLY = ("vehicle.blowout_compensation.blown_side_fault_flag=0",)  # the defect with slip_limit_yaw as shipped
 LANE_MARGIN_M = 0.978  # stay_in_lane: (3.75 m lane - 1.794 m BJ2500 width)/2, data/requirements/tire_blowout.toml
 LIMIT_BLOWN_SIDE = 6  # blowout_limit_code: the blown side's other inlet stuck (LIMIT_REASONS[6])
 BAR = 1.0e5
@@ -43,7 +48,8 @@ def _run(env, baseline=False, sets=()):
 @pytest.fixture(scope="module")
 def runs():
     env = load_envelope("tire_blowout_faults")
-    return {"on": _run(env, sets=ON), "defect": _run(env, sets=DEFECT), "none": _run(env, baseline=True)}
+    return {"on": _run(env, sets=ON), "defect": _run(env, sets=DEFECT), "none": _run(env, baseline=True),
+            "defect_sly": _run(env, sets=DEFECT_SLY)}
 
 
 def _braking_window(r):
@@ -80,6 +86,13 @@ def test_360_defect_leaves_the_lane(runs):
     """Negative control: the code before fails the stay_in_lane bound (9.269 m) and is far worse than the twin."""
     assert runs["defect"].metrics[METRIC] > LANE_MARGIN_M
     assert runs["defect"].metrics[METRIC] > runs["none"].metrics[METRIC] + 1.0
+
+
+def test_360_defect_caught_by_slip_limit_yaw(runs):
+    """Defence in depth (session o): with blown_side_fault OFF, the shipped slip_limit_yaw 1 still keeps the car in the
+    lane (0.745 m; 13.237 m with both off): the yaw limit's dump of the counter-brake rear is no longer vetoed. Fails
+    with slip_limit_yaw 0 (then runs["defect_sly"] == runs["defect"])."""
+    assert runs["defect_sly"].metrics[METRIC] <= LANE_MARGIN_M
 
 
 @pytest.mark.xfail(strict=True, reason="residual: 0.193 vs the twin's 0.172 m (the pre-pedal counter-brake; findings L1)")
@@ -203,7 +216,7 @@ def test_208_stuck_front_holding_a_brake_rule_does_not_act():
     run is the code before's (flag 0) to the bit, and no limit code 6. Seeded defect: the trapped-pressure gate dropped
     (the rule re-brakes the blown rear: code 6, 4.067 -> 0.641 m robustness)."""
     env = load_envelope("tire_blowout_faults")
-    r4, r0 = (_run_pt(env, P208, sets=s) for s in (ON4, DEFECT))
+    r4, r0 = (_run_pt(env, P208, sets=s) for s in (ON4, DEFECT_SLY))
     assert not np.any(np.asarray(r4.trace["blowout_limit_code"]) == LIMIT_BLOWN_SIDE)
     for k in ("wheel_pressure_rl_pa", "wheel_pressure_rr_pa", "lane_offset_m"):
         np.testing.assert_array_equal(np.asarray(r4.trace[k]), np.asarray(r0.trace[k]))
