@@ -1812,7 +1812,8 @@ def blown_side_fault(st, b, tg, mode, braking, inlet_ok, p_est, p_mc, requests, 
     # (review RL2) code 6 says "no counter-brake is added" (a blown rear; a blown front, review RM2: "the free rear held
     # select-low"): once the rule stands aside (the pedal released, the paper's
     # compensation back - measured at r41 #360 with the pedal released at 2.6 s: RL 32 bar, RR 1.4 bar, code still 6 to
-    # the end) the code it wrote is taken back; it only ever replaced LIMIT_NONE. No dynamics change (no rule reads 6)
+    # the end) the code it wrote is taken back; it only ever replaced LIMIT_NONE. Since session o braking_rule reads 6
+    # (blown_side_stop_flag, O4): it runs before this function, so it follows code 6 one ESP period late (5 ms, bounded)
     stand_aside = inlet_ok[s] > 0.5 or braking < 0.5
     # (blown_side_spin_front_flag, review RL2, candidate, 0 = the code before) nor while the spin-front rule governs
     # (code 5: the blown rear released and the compensating side's front braked against a rotation TOWARD the blown

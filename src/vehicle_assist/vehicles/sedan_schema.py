@@ -131,8 +131,10 @@ class SedanEsp(Strict):
     named_front_gma_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # 1 = with a REAR known blown or TPMS-named, the GMA's delayed front - the one opposite the blown rear - below the
     # other front's estimate (by > 1 bar, no yaw toward its side beyond the hold rate) re-builds in pulses (ABS build)
-    # instead of the GMA hold/pulse - a candidate NOT shipped (one new faultsT violation); 0 = the code before
-    # (tire_blowout_findings.md L7)
+    # instead of the GMA hold/pulse - a candidate NOT shipped (one new faultsT violation); 2 = 1 only while the blown
+    # rear's OWN inlet is diagnosed stuck (M6); 3 = 2 OR the other front has left ABS at the driver's pressure (N6, the
+    # SUV ships 3 since session o, review O1); 0 = the code before (tire_blowout_findings.md L7, M6, N6, O1). Default 0:
+    # the sedan ships its blowout compensation off, the rule cannot act there (its TOML sets 0 and says so)
     gma_pressure_order_flag: Annotated[int, Field(ge=0, le=3)] = 0
     # 1 = with a blown or TPMS-named REAR the GMA follow (gma_follow_flag) still applies to the GMA's front (only a blown
     # front's release is the fronts' one-sided ABS activity); 0 = the code before (tire_blowout_findings.md J4, RJ1: J4's
@@ -484,23 +486,24 @@ class SedanBlowoutCompensation(Strict):
     # (findings O4); default = the SUV's shipped value, as for the other flags (the sedan ships the compensation off)
     blown_side_stop_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # (session o, O7) a blown FRONT under the pedal (braking rule): 1 = the counter-brake front takes its share inside
-    # the yaw dead band (blown_side_stop's premise for every blown front); 0 = the code before (findings O7)
+    # the yaw dead band (blown_side_stop's premise for every blown front); 2 = the held front raised to the driver's
+    # pressure only (never above 1's share), only for a detection the wheel speeds confirm (O9); 0 = the code before
+    # (findings O7, O9); both candidates, the SUV ships 0
     stop_share_flag: Annotated[int, Field(ge=0, le=2)] = 0
-
     # (session o, O2) a detected REAR blowout while the driver brakes: the blown side's FRONT held at no more than the
     # other front's pressure (functions/esp.py hold/dump, ABS wins); 2 = 1 only while the yaw error points toward the
     # blown side beyond yaw_deadband; 3 = 2 held from 1 bar above the other front (not at equality); 0 = the code
     # before (findings O2)
     blown_side_front_cap_flag: Annotated[int, Field(ge=0, le=3)] = 0
-
     # (session o, O6) reject_heading_return releases no front wheel ABS holds at its lock level (S_ABS_ACTIVE: a hold
     # or dump in the last 0.3 s): there eq. 28's brake moment does not hold, the release frees the tire's lateral force
     # (friction circle); 0 = the code before (findings O6)
     heading_return_abs_flag: Annotated[int, Field(ge=0, le=1)] = 0
     # (session o, O6) the rear slip limit's driver's-pressure floor (Q_HOLD) does not override the feed-forward
-    # over-compensation limiter's dump (HOLD, yaw away from the blown side beyond esp.yaw_dump_rate); 0 = the code before
-    slip_limit_yaw_flag: Annotated[int, Field(ge=0, le=1)] = 0
-
+    # over-compensation limiter's dump (HOLD, yaw away from the blown side beyond esp.yaw_dump_rate); 0 = the code before;
+    # shipped 1 after review RO6 (findings O6, RO6); default = the SUV's shipped value, as for the other flags (the
+    # sedan ships the compensation off)
+    slip_limit_yaw_flag: Annotated[int, Field(ge=0, le=1)] = 1
     # (session o, O8) a blown FRONT with its OWN inlet stuck (own_stuck_front), braking, in a curve toward the blown
     # side: while the yaw falls short of the steered reference beyond the dead band (understeer) the compensating OUTER
     # front is released without the driver's pressure as floor; 2 = 1 with the shortfall judged as path curvature at
