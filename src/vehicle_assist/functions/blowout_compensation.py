@@ -2432,9 +2432,9 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
     if toward < -p.blowout_compensation_yaw_deadband_radps:
         st[S_P_BRAKE] = p_floor
     elif toward < p.blowout_compensation_yaw_deadband_radps:
-        ws_confirmed = (int(st[S_SOURCES] + 0.5) & SRC_WS) != 0
-        if (p.blowout_compensation_stop_share_flag > 1.5 and toward < 0.0 and ws_confirmed
-                and not (p.blowout_compensation_blown_side_stop_flag > 0.5 and st[S_LIMIT_CODE] == LIMIT_BLOWN_SIDE)):
+        side_stop = p.blowout_compensation_blown_side_stop_flag > 0.5 and st[S_LIMIT_CODE] == LIMIT_BLOWN_SIDE
+        if (p.blowout_compensation_stop_share_flag > 1.5 and toward < 0.0 and not side_stop
+                and (int(st[S_SOURCES] + 0.5) & SRC_WS) != 0):
             # (stop_share_flag value 2, session o O9) value 1 narrowed to what the ECU measures: (a) only a detection
             # the wheel speeds confirm (S_SOURCES has the wheel-speed bit): a TPMS-only naming proves no drag on the
             # named wheel, the share then brakes the counter front against a wheel that may have none (false alarms
@@ -2444,8 +2444,7 @@ def braking_rule(st, b, tg, mode, braking, a_x, a_y_ref, yaw_rate, p_mc, p_est, 
             # exceeding the pedal: f_r41 #326, 51 bar balance vs 21 bar pedal) stays held. fb5 #18: FR held 18-24 bar
             # against the driver's 55 -> 55 bar. Never above p_full (the rule's circle/ABS ceiling)
             st[S_P_BRAKE] = min(max(p_est[tg], p_floor, max(p_mc, 0.0)), p_full)
-        elif ((p.blowout_compensation_blown_side_stop_flag > 0.5 and st[S_LIMIT_CODE] == LIMIT_BLOWN_SIDE)
-                or (p.blowout_compensation_stop_share_flag > 0.5 and p.blowout_compensation_stop_share_flag < 1.5)):
+        elif side_stop or (p.blowout_compensation_stop_share_flag > 0.5 and p.blowout_compensation_stop_share_flag < 1.5):
             # (stop_share_flag, session o O7) the same for every blown front under the pedal: inside the dead band
             # the counter-brake front takes its share, not held where it last was (fb5 #18: FR frozen at 18-24 bar
             # against the driver's 55 for 8 s, a latch value set by one ESP period; findings O7)

@@ -433,6 +433,20 @@ def reference_update(ctl, vw_arr, v_plaus, ref_changed, bls, a_x, valve_quiet_s,
     return v_ref
 
 
+@nb.njit(cache=True, nogil=True)
+def cap_hold_dump(wm, p_w, cap):
+    """A wheel held at a pressure cap (ABS hold, circuit open) and dumped above it by more than 1 bar
+    (bc.PRESSURE_MARGIN_PA); ABS's own dump/hold/isolated hold win. The blowout braking rule's rear cap and the
+    blown-side front cap (blown_side_front_cap_flag) share it."""
+    if wm == W_D or wm == W_H or wm == W_HI:
+        return wm
+    if p_w > cap + bc.PRESSURE_MARGIN_PA:
+        return W_D
+    if p_w >= cap:
+        return W_H
+    return wm
+
+
 @nb.njit(cache=True, nogil=True, error_model="numpy")
 def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, abs_guards, hba_guards, bst, m_blow):
     """One ESP period; writes the wheel valve modes into ``wheels[:, A_WHEEL_MODE]``; returns n_events."""
@@ -948,11 +962,7 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
         elif abs_ok and brake_rule and i >= 2 and bst[bc.S_REAR_CAP] >= 0.0 and blow_req[i] == bc.Q_NONE:
             # blowout braking rule: the rear pair held at its cap (ABS hold, circuit open), dumped above it by more
             # than 1 bar; ABS's own hold/dump win
-            if wm != W_D and wm != W_H and wm != W_HI:
-                if wheels[i, A_P_EST] > bst[bc.S_REAR_CAP] + 1.0e5:
-                    wm = W_D
-                elif wheels[i, A_P_EST] >= bst[bc.S_REAR_CAP]:
-                    wm = W_H
+            wm = cap_hold_dump(wm, wheels[i, A_P_EST], bst[bc.S_REAR_CAP])
         elif (abs_ok and brake_rule and p.blowout_compensation_blown_side_front_cap_flag > 0.5 and bls and i < 2
               and int(bst[bc.S_BLOWN]) >= 2 and i == int(bst[bc.S_BLOWN]) - 2 and blow_req[i] == bc.Q_NONE
               and (int(bst[bc.S_MODE]) == bc.BUILD or int(bst[bc.S_MODE]) == bc.HOLD)
@@ -974,12 +984,8 @@ def esp_step(ctl, wheels, hst, meas, p, dt, t, m_abs0, m_hba, events, n_events, 
             # against FR's 19-23) - equal fronts add no moment, the select-low has nothing to limit there
             cap = wheels[1 - i, A_P_EST]
             if p.blowout_compensation_blown_side_front_cap_flag > 2.5:
-                cap = cap + 1.0e5
-            if wm != W_D and wm != W_H and wm != W_HI:
-                if wheels[i, A_P_EST] > cap + 1.0e5:
-                    wm = W_D
-                elif wheels[i, A_P_EST] >= cap:
-                    wm = W_H
+                cap = cap + bc.PRESSURE_MARGIN_PA
+            wm = cap_hold_dump(wm, wheels[i, A_P_EST], cap)
         elif abs_ok and blow_req[i] != bc.Q_NONE:
             wm = BLOWOUT_ARBITRATION[blow_req[i], wm]
             if blow_req[i] == bc.Q_HOLD and wm == W_HI and src_i > wheels[i, A_P_EST] + 1.0e5:
